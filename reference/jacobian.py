@@ -1,1 +1,85 @@
-"""(being written)"""
+"""``Phi'`` as the ordered product of the paper's Table 1 matrices (later on the left).
+
+Walking the event log of ``[0, T]``, with the mode between events:
+
+* flight over ``h``:            ``[[1, h], [0, 1]]``
+* impact at ``t*``:             ``[[-1, 0], [2 A(t*) / v-, -1]]`` with ``v-`` the velocity
+  **before** the impact.  Derivation (SEMANTICS.md): the saltation matrix
+  ``S = DR + (f+ - DR f-) grad(h)^T / (grad(h) . f-)`` with ``h(x) = x - r``,
+  ``DR = diag(1, -1)``, ``f- = (v-, a-)``, ``f+ = (-v-, a+)`` gives the lower-left entry
+  ``(a+ + a-)/v-``; friction cancels in ``a+ + a- = (A + s f) + (A - s f) = 2 A``.  The
+  paper writes ``x'(t*)``: with ``x'(t*+) = -v-`` that would flip the sign of the entry.
+  ``test_reference_jacobian`` pins the choice against finite differences.
+  With restitution: ``[[-e, 0], [((1+e) A + (1-e) s f)/v-, -e]]``, ``s = sgn v-``.
+* turn at ``t~``:               ``[[1, 0], [0, (|A| - f)/(|A| + f)]]``
+* a sticking interval:          ``[[1, 0], [0, 0]]`` (``stick`` ... ``slip``, or ... ``T``)
+* wall contact:                 ``[[0, 0], [0, 0]]`` (``contact``/``chatter`` ... ``release``)
+
+Frictionless scenes log no event at ``v = 0`` (a turn with factor 1: nothing to multiply).
+The Jacobian does not exist on grazing orbits (``1/v-`` blows up) and at chatter the
+exit state does not depend on the entry (the zero matrix).
+"""
+from __future__ import annotations
+
+import mpmath
+
+_MODE_AFTER = {"impact": "flight", "turn": "flight", "slip": "flight", "release": "flight",
+               "stick": "stick", "contact": "contact", "chatter": "contact"}
+
+
+def _mul(P, Q):
+    return [[P[0][0] * Q[0][0] + P[0][1] * Q[1][0], P[0][0] * Q[0][1] + P[0][1] * Q[1][1]],
+            [P[1][0] * Q[0][0] + P[1][1] * Q[1][0], P[1][0] * Q[0][1] + P[1][1] * Q[1][1]]]
+
+
+def flight_matrix(model, h):
+    """Flight over ``h`` (damping: ``[[1, (1 - exp(-c h))/c], [0, exp(-c h)]]``)."""
+    one, zero = mpmath.mpf(1), mpmath.mpf(0)
+    if model.damping:
+        E = mpmath.exp(-model.c * h)
+        return [[one, -mpmath.expm1(-model.c * h) / model.c], [zero, E]]
+    return [[one, h], [zero, one]]
+
+
+def impact_matrix(model, A, v_before):
+    """Reflection saltation matrix, with the velocity BEFORE the impact."""
+    e, zero = model.e, mpmath.mpf(0)
+    s = 1 if v_before > 0 else -1
+    lower = ((1 + e) * A + (1 - e) * s * model.f) / v_before
+    return [[-e, zero], [lower, -e]]
+
+
+def turn_matrix(model, A):
+    """Turning point: the speed after is scaled by ``(|A| - f)/(|A| + f)``."""
+    one, zero = mpmath.mpf(1), mpmath.mpf(0)
+    return [[one, zero], [zero, (abs(A) - model.f) / (abs(A) + model.f)]]
+
+
+def product_of_table1(model, log):
+    """The Jacobian of the map ``(x0, v0) -> (x(t_end), v(t_end))`` of an event log."""
+    if model.position_forcing:
+        raise NotImplementedError("Table 1 matrices do not cover position_forcing flights")
+    one, zero = mpmath.mpf(1), mpmath.mpf(0)
+    J = [[one, zero], [zero, one]]
+    stick = [[one, zero], [zero, zero]]
+    nothing = [[zero, zero], [zero, zero]]
+    mode, t_prev = "flight", log.t0
+    for ev in log:
+        if mode == "flight":
+            J = _mul(flight_matrix(model, ev.t - t_prev), J)
+        elif mode == "stick" and ev.kind == "slip":
+            J = _mul(stick, J)
+        elif mode == "contact" and ev.kind == "release":
+            J = nothing
+        if ev.kind == "impact":
+            J = _mul(impact_matrix(model, model.force(ev.x, ev.t), ev.v_before), J)
+        elif ev.kind == "turn":
+            J = _mul(turn_matrix(model, model.force(ev.x, ev.t)), J)
+        mode, t_prev = _MODE_AFTER[ev.kind], ev.t
+    if mode == "flight":
+        J = _mul(flight_matrix(model, log.t_end - t_prev), J)
+    elif mode == "stick":
+        J = _mul(stick, J)
+    else:
+        J = nothing
+    return J
