@@ -44,6 +44,25 @@ TOLERANCES = {
         rtol=0.0, atol=1e-20,
         why="issue 2 acceptance: the reflection term 2 F cos(w t*)/v(t*-) amplifies "
             "errors by 1/|v| near grazing; 30 digits of headroom"),
+    # --- reference self-checks (tests/test_reference_*.py; owner: reference) -----------
+    "ref_self_dps30": Tol(
+        rtol=0.0, atol=1e-25,
+        why="reference at dps 30 against dps 50 on a few periods: 30 digits, results rounded "
+            "to 30 digits, minus dps_tol's 5 digits of event-time conditioning (|dPhi/dt_k| "
+            "<= (F + f) T ~ 10 per event, a handful of events per period)"),
+    "ref_fd_jacobian": Tol(
+        rtol=1e-25, atol=1e-25,
+        why="central differences of Phi at dps 80 with step h = 1e-30: truncation "
+            "h^2 |Phi'''| / 6 ~ 1e-60 x (1/v-)^3, rounding 1e-80 / h = 1e-50; against the "
+            "Table 1 product at dps 60; 1e-25 leaves >= 20 digits for 1/|v-| and event "
+            "conditioning, and is still 10^25 times smaller than the effect of taking v+ "
+            "instead of v- (an O(1) change of the lower-left entry)"),
+    "ref_identity_dps40": Tol(
+        rtol=0.0, atol=1e-32,
+        why="metamorphic identities (energy balance, symmetry, translation, semigroup, time "
+            "reversal) of reference runs at dps 40: each side carries 40 digits rounded, "
+            "minus dps_tol's 5 digits of event conditioning, minus 3 for the amplification "
+            "of a few periods (|Phi'| <~ 10^3 over the orbits used)"),
     # --- fast (float64) against reference at 50 digits --------------------------------
     "fast_one_period_max": Tol(
         rtol=1e-13, atol=1e-13,
@@ -56,6 +75,136 @@ TOLERANCES = {
         rtol=3.0, atol=0.0,
         why="issue 3: ten-period error within 3x the spread of the exact map under a "
             "one-ulp move of the start (the one-ulp floor; chaos amplifies it)"),
+    # --- golden data (cross_check.golden; owner: cross_check front door) --------------
+    "golden_self_agreement": Tol(
+        rtol=1e-40, atol=1e-40,
+        why="golden values are written with 40 significant digits from a dps-90 run; the "
+            "dps-90 and dps-110 runs must agree to those 40 digits (errors scaled by "
+            "max(1, |value|)): dps_tol(90, lost_digits=50) = 1e-40.  The 50 lost digits are "
+            "set by the chatter accumulation time t_inf, which carries only ~dps/2 + 4 digits "
+            "(measured on R=20, f=0.1: dps 60 -> 34, 70 -> 39, 90 -> 49, 110 -> 59 digits: the "
+            "late bounce times are near-tangential roots, sqrt of the noise floor); everything "
+            "else loses at most the 20 digits ref_map_dps50 allows"),
+    "golden_reference_state": Tol(
+        rtol=1e-30, atol=1e-30,
+        why="reference at dps 50 against the 40-digit golden data: ref_map_dps50's 1e-30 "
+            "(50 digits minus 20 for event-time conditioning), applied to Phi, event times "
+            "and event states, scaled by max(1, |value|)"),
+    "golden_reference_jacobian": Tol(
+        rtol=1e-20, atol=1e-20,
+        why="reference Jacobian at dps 50 against golden: ref_jacobian_dps50's 1e-20, but "
+            "relative (max(1, |value|)): near grazing the entry 2A/v- is as large as 1e13 "
+            "and carries the relative error of v-, not an absolute one"),
+    "golden_reference_chatter_time": Tol(
+        rtol=1e-25, atol=1e-25,
+        why="the chatter accumulation time t_inf of the reference carries ~dps/2 + 4 digits "
+            "(measured, R=20 f=0.1: dps 60 -> 34, 70 -> 39, 90 -> 49, 110 -> 59; the last "
+            "simulated bounces are near-tangential roots, accurate to the square root of the "
+            "noise floor): 29 digits at dps 50, 4 digits of margin"),
+    "golden_fast_phi_per_cond": Tol(
+        rtol=1e-13, atol=1e-13,
+        why="fast's Phi and event times against golden, error scaled by max(1,|value|) and "
+            "divided by max(1, max |J_ij|) (golden Jacobian): the forward error of a "
+            "backward-stable float64 integrator is the condition times its backward error; "
+            "away from grazing |J| ~ 1-10 and this is fast_one_period_max; near grazing "
+            "|J| ~ 2|A|/|v-| grows and so does the achievable error"),
+    "golden_fast_chatter_time": Tol(
+        rtol=1.5e-8, atol=1.5e-8,
+        why="fast's chatter accumulation time: in float64 the late bounce times are "
+            "near-tangential roots, accurate to sqrt(eps) ~ 1.5e-8 at best (the reference "
+            "shows the same square-root loss: golden_reference_chatter_time)"),
+    "golden_fast_jacobian_per_kappa": Tol(
+        rtol=1e-13, atol=1e-13,
+        why="fast Jacobian against golden, error scaled by max(1,|J_ij|) and divided by "
+            "max(1, max|J|) kappa^2, kappa = max(1, max over impacts of (F/w)/|v-|).  "
+            "max|J|: an error in one factor of the Table 1 product is carried by the rest of "
+            "the product (measured worst without it: 2.6x the bound, 2pi f=0.01, |J| = 25; "
+            "with it, 0.1x over all golden float64 inputs).  kappa^2: the saltation entry "
+            "2A/v- carries the relative error of v-; near grazing the impact is a nearly "
+            "tangential root located to dt ~ eps (F/w)/|v-|, so v- = |a| dt is off by "
+            "eps (F/w)^2/|v-| (|a| <= F + f), a relative error eps kappa^2 (measured: v- = "
+            "1e-6 gives 3e-4); 1e-13 is fast_one_period_max's bound for the rest"),
+    # --- cross_check.compare ----------------------------------------------------------
+    "compare_band_ulps": Tol(
+        rtol=4.0, atol=0.0,
+        why="near-grazing band: a state is in the band if its event itinerary changes when "
+            "x or v moves by up to rtol (=4) ulps, the size of the rounding a float64 "
+            "integrator makes in an event time over a period (fast_one_period_median ~10 "
+            "ulp spread over ~3 events)"),
+    # --- the paper's closed forms and claims (reference/paper.py, cross_check/claims.py) ---
+    "paper_identity_dps50": Tol(
+        rtol=0.0, atol=1e-40,
+        why="closed forms of reference/paper.py at 50 digits: each identity (wall hit, "
+            "reflection, periodicity, ODE residual by mpmath.diff at raised precision) is a few "
+            "dozen operations on numbers <= ~1e2 (C T for R = 20), rounding ~1e-47; 1e-40 "
+            "leaves 7 digits of headroom"),
+    "paper_fd_jacobian_dps80": Tol(
+        rtol=0.0, atol=1e-40,
+        why="central differences with step 1e-25 at 80 digits: truncation O(h^2 |third "
+            "derivative|) ~1e-50 x O(10), rounding O(eps |Phi| / h) ~1e-55 x 20 (eps = 1e-80)"),
+    "paper_fold_dps50": Tol(
+        rtol=0.0, atol=1e-20,
+        why="at the fold f = 2F/pi the roots psi_{1,2} depend on sqrt(1 - (pi f/2F)^2): a "
+            "rounding of 1e-50 in f moves them by ~sqrt(1e-50) = 1e-25; 1e-20 leaves headroom"),
+    "claim_fixed_point": Tol(
+        rtol=0.0, atol=1e-9,
+        why="brief/acceptance: fixed points stated to 1e-9; reference Newton at 50 digits "
+            "gives ~1e-30, float64 Newton (fast) ~1e-13 (fast_one_period_max amplified by "
+            "|(Phi' - I)^-1| <= ~1e2 on the paper's non-degenerate fixed points)"),
+    "claim_multiplier": Tol(
+        rtol=0.0, atol=1e-8,
+        why="brief/acceptance: multipliers to 1e-8; the Jacobian is evaluated at the fixed "
+            "point refined to 1e-30 (reference) or ~1e-13 (fast); Table-1 entries scale as "
+            "F/|v| <= ~1e1 on the paper's fixed points, so float64 gives ~1e-11"),
+    "claim_threshold": Tol(
+        rtol=0.0, atol=1e-9,
+        why="brief/acceptance: thresholds (R*, f_crit) to 1e-8 or better; bisection/secant on "
+            "a closed form or on the trace of a fixed point found to 1e-30 at 50 digits"),
+    "claim_unit_det": Tol(
+        rtol=0.0, atol=1e-9,
+        why="Omega_pres test |det Phi'| = 1 in float64: det is a product of O(10) Table-1 "
+            "matrices each exact to ~1e-14 relative; a turning point gives "
+            "(|A|-f)/(|A|+f) <= 1 - 2f/(F+f), i.e. <= 1 - 1e-2 for the paper's f >= 0.005, "
+            "so 1e-9 separates the classes with 7 decades to spare"),
+    # --- position-dependent forcing flights: reference/taylor.py, fast/ode.py -------------
+    "taylor_closed_form_dps50": Tol(
+        rtol=0.0, atol=1e-45,
+        why="Taylor flight with k = 0 against the closed-form flight at 50 digits: each step's "
+            "truncation is proved below 2^-(prec+12), arithmetic runs at prec+32 bits, a unit "
+            "time takes ~30 steps whose errors grow at most like exp(L t), L <= ~3: ~1e-52 "
+            "for |x|, |v| <= ~10; dps_tol(50, lost_digits=5) leaves 7 digits of headroom"),
+    "taylor_odefun_dps30": Tol(
+        rtol=0.0, atol=1e-25,
+        why="Taylor flight at 30 digits against mpmath.odefun at 40 digits (its own Taylor "
+            "method, tolerance ~1e-40): the Taylor flight's error is ~1e-32 (as above at 30 "
+            "digits); dps_tol(30, lost_digits=5)"),
+    "taylor_identity_dps30": Tol(
+        rtol=0.0, atol=1e-25,
+        why="Liouville det = exp(-c t), energy balance (mpmath.quad of the dense output, "
+            "Gauss-Legendre converging to ~1e-30 on an analytic integrand) and the jerk "
+            "against mpmath.diff, at 30 digits: each is a few hundred operations on "
+            "numbers <= 1e2 after a flight accurate to ~1e-32; dps_tol(30, lost_digits=5)"),
+    "taylor_fd_jacobian_dps50": Tol(
+        rtol=0.0, atol=1e-26,
+        why="variational flight matrix against central differences with step 1e-15 at 50 "
+            "digits: truncation h^2/6 |third derivative of the flow| ~1e-30 x O(1e2) (the "
+            "flow's derivatives grow with k^3 |v|^3 over a unit time), rounding "
+            "1e-50/1e-15 = 1e-35"),
+    "ode_vs_taylor_flight": Tol(
+        rtol=1e-13, atol=1e-13,
+        why="fast DOP853 flight (64 fixed steps a period, order 8, dense output of order 7) "
+            "against the Taylor flight at 30 digits, for |v| <= 4 and up to one period, x, v "
+            "and the flight matrix: measured ~1e-15 (order-8 local error (h Lambda)^9 with "
+            "Lambda = max(w, k |v|) <= 2 pi, h = 1/64, summed over 64 steps, plus ~1e2 ulp "
+            "of rounding); 1e-13 is fast_one_period_max's budget for a flight.  Also the "
+            "period Jacobian of fast.ode.ode_map against differences of the reference map "
+            "(Table 1's event matrices are a few exact float products on top)"),
+    "ode_event_residual": Tol(
+        rtol=0.0, atol=1e-13,
+        why="the reference event function (wall distance or velocity, from the Taylor flight) "
+            "at the fast event time: the root is polished on the dense output to a few ulp, "
+            "the dense output's error is that of ode_vs_taylor_flight; measured in g's own "
+            "units, so free of the 1/|g'| conditioning of the event time"),
 }
 
 
@@ -65,3 +214,56 @@ def tol(name: str) -> Tol:
         return TOLERANCES[name]
     except KeyError:
         raise KeyError(f"unknown tolerance {name!r}; known: {', '.join(sorted(TOLERANCES))}") from None
+
+# --- figures (cross_check/figures.py, issue 7) ------------------------------------------
+TOLERANCES.update({
+    "fig_birkhoff_regular": Tol(
+        rtol=1e-3, atol=0.0,
+        why="issue 7 orbit classifier: an orbit is regular when the weighted Birkhoff averages of "
+            "cos(pi (x-l)/R) and v^2 over its two halves agree to rtol relative to the observable's "
+            "spread. Phi is only piecewise smooth (the lifted force jumps at the walls), so on an "
+            "invariant curve they converge like a power of 1/N, not faster; measured on the r = 20 "
+            "frictionless grid (fig:nofriction d): invariant curves agree to 3.0-4.2 digits at N = 60 "
+            "and 3.2-6 at N = 200 iterates per half, chaotic orbits to <= 2.2 and <= 2.7 digits "
+            "(~N^(-1/2)); 3 digits separates the two at both resolutions"),
+    "fig_fold_f": Tol(
+        rtol=0.0, atol=1e-8,
+        why="issue 7 fold by continuation vs the closed form f/F = 2/pi: fixed points solved to "
+            "1e-11 (Newton), trace of Phi' to ~1e-10; the branch is f = f* - c s^2 near the fold, "
+            "so bisection on tr = 2 in arclength s to 1e-13 leaves an f error far below 1e-8"),
+    "fig_resonance_R": Tol(
+        rtol=0.0, atol=1e-4,
+        why="issue 7 3:1 resonance tr Phi' = -1 vs the paper's R* ~ 0.8932 (4 decimals): the "
+            "computed R* = 0.893300 (fast and an independent time-stepped map agree to 1e-8) rounds "
+            "to 0.8933, so the paper truncated; a truncated 4-decimal value is within one unit of the "
+            "last digit below the true value, 0 <= R* - 0.8932 < 1e-4"),
+})
+
+# --- fast (float64 engine, issue 3): its own property tests ----------------------------
+TOLERANCES.update({
+    "fast_metamorphic": Tol(
+        rtol=2e-12, atol=2e-12,
+        why="issue 3 properties comparing two float64 runs over <= 2 periods (symmetry, "
+            "semigroup, wall translation): each run is within fast_one_period_max (1e-13) of "
+            "the exact map per period and a moved input enters amplified by |Phi'|; the "
+            "tests scale this tolerance by (1 + |Phi'|) of the state, so 2e-12 leaves ~10x "
+            "headroom over the 1e-13 per period of two runs"),
+    "fast_energy_balance": Tol(
+        rtol=1e-12, atol=1e-12,
+        why="issue 3 energy balance over one period, dE = work of F cos(w t) - f * distance: "
+            "each of <= ~30 event times carries ~eps T, the work integrand |A v| <= F vmax "
+            "turns that into ~30 eps F vmax T ~ 1e-13 for the paper's scenes; 30-point "
+            "Gauss-Legendre on each flight segment adds < 1e-15; scaled by (1 + vmax^2)"),
+    "fast_jacobian_fd": Tol(
+        rtol=1e-6, atol=1e-6,
+        why="issue 3 Phi' vs central differences with step d = 1e-6 on states whose event "
+            "itinerary is the same at +-d: truncation |Phi'''| d^2 ~ 1e-12 |Phi'''| plus "
+            "rounding ~1e-13 / d = 1e-7 (one-period error of fast_one_period_max over d); "
+            "scaled by max(1, |Phi'|)"),
+    "fast_jacobian_vs_reference": Tol(
+        rtol=1e-10, atol=1e-10,
+        why="issue 3 Phi' (Table 1 product) against reference at dps 30, scaled by "
+            "max(1, |Phi'|): each impact factor 2 A / v- moves by ~|dt| |A'| / |v-| + "
+            "2 |A| |dv| / v-^2 for event-time and velocity errors ~1e-15, so ~1e-13 / v-^2 "
+            "per impact; 1e-10 admits impacts down to |v-| ~ 0.03 (fixed states, no grazing)"),
+})

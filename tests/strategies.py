@@ -5,6 +5,9 @@ same exact problem; states are drawn inside the closed gap ``[l, r]``.
 """
 from __future__ import annotations
 
+import math
+from fractions import Fraction
+
 from hypothesis import strategies as st
 
 from reference.scene import Scene
@@ -32,9 +35,125 @@ def scenes(draw, friction=True, max_f_over_F=0.6, omegas=("1", "2*pi")):
 
 @st.composite
 def states(draw, scene: Scene, vmax: float = 2.0):
-    """A state ``(x, v)`` with ``x`` in the closed gap and ``|v| <= vmax`` (floats)."""
+    """A state ``(x, v)`` with ``x`` in the closed gap and ``|v| <= vmax`` (floats).
+
+    The walls are exact (e.g. ``r = 4/5``) while ``x`` is a float: a float rounded to the
+    nearest may lie just outside, so ``x`` is moved inward by ulps until it is inside
+    exactly (both integrators rightly reject a state outside the walls).
+    """
     l, r = scene.float("l"), scene.float("r")
     u = draw(st.floats(0.0, 1.0))
     x = min(max(l + u * (r - l), l), r)
+    while Fraction(x) > scene.exact("r"):
+        x = math.nextafter(x, -math.inf)
+    while Fraction(x) < scene.exact("l"):
+        x = math.nextafter(x, math.inf)
     v = draw(st.floats(-vmax, vmax, allow_nan=False, allow_infinity=False))
+    return x, v
+
+
+# --- claims (the paper's closed forms: tests/test_paper_formulas.py, tests/test_claims.py) ---
+@st.composite
+def symmetric_scenes(draw, max_f_over_bound=1.0):
+    """A base scene where the symmetric solutions of eq. nonstick exist: F = 1, ``f <= 2/pi``.
+
+    ``l`` in [-1, 1], ``R`` in [0.5, 30]; ``omega`` in {1, 2 pi, 1/2}; ``f`` a decimal
+    ``<= max_f_over_bound * 2/pi``.
+    """
+    f = draw(decimals(0.0, 0.6366 * max_f_over_bound))
+    omega = draw(st.sampled_from(("1", "2*pi", "0.5")))
+    l = draw(decimals(-1.0, 1.0, 2))
+    R = draw(decimals(0.5, 30.0, 2))
+    r = f"{float(l) + float(R):.2f}"
+    return Scene(F="1", f=f, omega=omega, l=l, r=r)
+
+
+# --- effects: position-dependent forcing (tests/test_taylor.py, tests/test_ode.py) ---------
+@st.composite
+def xpot_scenes(draw, damping=True):
+    """Eq. ``xpot``'s family: F = 1, w = 2 pi, walls -1, 1, k = pi/2; ``f`` in [0, 0.3]
+    and (optionally) viscous damping ``c`` in [0, 0.5]."""
+    f = draw(decimals(0.0, 0.3, 3))
+    c = draw(decimals(0.0, 0.5, 2)) if damping else "0"
+    return Scene(F="1", f=f, omega="2*pi", l="-1", r="1", wavenumber="pi/2", damping=c)
+
+
+@st.composite
+def flight_starts(draw, scene: Scene, vmax: float = 4.0):
+    """``(t0, x0, v0, s)`` starting a flight: ``x0`` in the gap, ``s = sgn(v0)`` (either sign
+    at ``v0 = 0``), ``t0`` in ``[0, T)``; floats (exact binary values at any precision)."""
+    x, v = draw(states(scene, vmax=vmax))
+    s = (1 if v > 0 else -1) if v != 0 else draw(st.sampled_from((1, -1)))
+    t0 = draw(st.floats(0.0, 0.999)) * scene.period
+    return t0, x, v, s
+
+
+# --- reference (tests/test_reference_*.py) --------------------------------------------------
+#: The paper's scenes (SEMANTICS.md, "The paper's scenes"), a representative of each family.
+REFERENCE_SCENES = {
+    "narrow_f0": Scene(F="1", f="0", omega="1", l="0", r="0.8"),
+    "narrow_f0005": Scene(F="1", f="0.005", omega="1", l="0", r="0.8"),
+    "wide_f03": Scene(F="1", f="0.3", omega="1", l="0", r="20"),
+    "wide_f0": Scene(F="1", f="0", omega="1", l="0", r="20"),
+    "2pi_f01": Scene(F="1", f="0.1", omega="2*pi", l="-1", r="1"),
+    "2pi_f0005": Scene(F="1", f="0.005", omega="2*pi", l="-1", r="1"),
+    "resonance": Scene(F="(2*pi)**2", f="24.65", omega="2*pi", l="0", r="0.8932"),
+}
+
+
+@st.composite
+def exact_states(draw, scene: Scene, vmax: float = 2.0, places: int = 6):
+    """``(x, v)`` as decimal strings, ``x`` inside the *exact* closed gap ``[l, r]``.
+
+    (The shared ``states`` draws floats, whose binary value can fall just outside a wall
+    given as a decimal, e.g. ``float('0.8') > 4/5``; the reference rejects those.)
+    """
+    from fractions import Fraction
+
+    l, r = Fraction(scene.exact("l")), Fraction(scene.exact("r"))
+    scale = 10 ** places
+    lo, hi = -(-l * scale // 1), r * scale // 1          # ceil(l), floor(r) in 10^-places
+    n = draw(st.integers(int(lo), int(hi)))
+    sign, (whole, frac) = ("-" if n < 0 else ""), divmod(abs(n), scale)
+    x = f"{sign}{whole}.{frac:0{places}d}"
+    v = draw(decimals(-vmax, vmax, places))
+    return x, v
+
+
+@st.composite
+def reference_cases(draw, friction=True, vmax=2.0):
+    """A paper scene (with or without friction) and an exact state in its gap."""
+    names = [k for k, s in REFERENCE_SCENES.items() if friction or not s.has("friction")]
+    scene = REFERENCE_SCENES[draw(st.sampled_from(sorted(names)))]
+    x, v = draw(exact_states(scene, vmax=vmax))
+    return scene, x, v
+
+
+# --- scenes (cross_check front door: the paper's named scenes) ------------------------
+@st.composite
+def named_scene_states(draw, names=None, vmax_factor: float = 2.0):
+    """``(name, x, v)``: a scene of ``cross_check.scenes`` and a float64 state strictly
+    inside its gap (``x = l + u R``, ``u`` in ``[0.001, 0.999]``), ``|v| <= vmax_factor F/w``."""
+    from cross_check import scenes as named
+
+    name = draw(st.sampled_from(sorted(names or named.FIGURE_SCENES)))
+    sc = named.scene(name)
+    l, r = sc.float("l"), sc.float("r")
+    u = draw(st.floats(0.001, 0.999))
+    vmax = vmax_factor * named.velocity_scale(sc)
+    v = draw(st.floats(-vmax, vmax, allow_nan=False, allow_infinity=False))
+    return name, l + u * (r - l), v
+
+
+# --- fast (float64 engine, issue 3: tests/test_fast_*.py) ----------------------------------
+@st.composite
+def fast_batches(draw, scene: Scene, n: int = 16, vmax: float = 2.0):
+    """A batch of ``n`` float64 states in the closed gap (a hypothesis-drawn seed)."""
+    import numpy as np
+
+    seed = draw(st.integers(0, 2 ** 32 - 1))
+    rng = np.random.default_rng(seed)
+    l, r = scene.float("l"), scene.float("r")
+    x = np.clip(rng.uniform(l, r, n), l, r)
+    v = rng.uniform(-vmax, vmax, n)
     return x, v
