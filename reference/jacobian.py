@@ -55,18 +55,33 @@ def turn_matrix(model, A):
     return [[one, zero], [zero, (abs(A) - model.f) / (abs(A) + model.f)]]
 
 
+def _flight(model, start, t):
+    """Flight matrix from ``start = (t0, x0, v0)`` to ``t``.
+
+    Closed-form flows have ``[[1, h], [0, 1]]`` (damped: see :func:`flight_matrix`); under
+    position forcing the flight matrix solves the variational equations along the Taylor
+    flow (``reference.taylor.flight_matrix``).  The event matrices of Table 1 are unchanged
+    there (their derivation only uses ``a+ + a- = 2 A(x*, t*)``), and so is the sticking
+    matrix: the exit time of a stick now depends on ``x``, but the flow vector at the exit
+    is ``(v, a) = (0, 0)`` (the force just equals friction), so that dependence drops out.
+    """
+    if model.position_forcing:
+        from reference import taylor  # only scenes with position forcing reach the Taylor flow
+
+        return taylor.flight_matrix(model, start[0], start[1], start[2], t)
+    return flight_matrix(model, t - start[0])
+
+
 def product_of_table1(model, log):
     """The Jacobian of the map ``(x0, v0) -> (x(t_end), v(t_end))`` of an event log."""
-    if model.position_forcing:
-        raise NotImplementedError("Table 1 matrices do not cover position_forcing flights")
     one, zero = mpmath.mpf(1), mpmath.mpf(0)
     J = [[one, zero], [zero, one]]
     stick = [[one, zero], [zero, zero]]
     nothing = [[zero, zero], [zero, zero]]
-    mode, t_prev = "flight", log.t0
+    mode, start = "flight", (log.t0, log.x0, log.v0)
     for ev in log:
         if mode == "flight":
-            J = _mul(flight_matrix(model, ev.t - t_prev), J)
+            J = _mul(_flight(model, start, ev.t), J)
         elif mode == "stick" and ev.kind == "slip":
             J = _mul(stick, J)
         elif mode == "contact" and ev.kind == "release":
@@ -75,9 +90,9 @@ def product_of_table1(model, log):
             J = _mul(impact_matrix(model, model.force(ev.x, ev.t), ev.v_before), J)
         elif ev.kind == "turn":
             J = _mul(turn_matrix(model, model.force(ev.x, ev.t)), J)
-        mode, t_prev = _MODE_AFTER[ev.kind], ev.t
+        mode, start = _MODE_AFTER[ev.kind], (ev.t, ev.x, ev.v)
     if mode == "flight":
-        J = _mul(flight_matrix(model, log.t_end - t_prev), J)
+        J = _mul(_flight(model, start, log.t_end), J)
     elif mode == "stick":
         J = _mul(stick, J)
     else:

@@ -1,0 +1,507 @@
+"""Flights under position-dependent forcing by a certified Taylor-series integrator.
+
+The model (paper, eq. ``xpot``, with the issue 6 effects)::
+
+    x'' = A(x, t) - s f - c x',     A(x, t) = F cos(k x) cos(w t),
+
+in flight with a fixed friction sign ``s`` (``+1`` or ``-1``; ``k = 0`` stands for a
+scene without position forcing, ``cos(0 x) = 1``). No closed form exists, so a flight
+is a chain of Taylor steps at the working mpmath precision, with a dense output (the
+step polynomial) valid for every ``t`` in the step and a *proved* truncation bound.
+
+Taylor coefficients (automatic differentiation)
+-----------------------------------------------
+Write ``x(t0 + tau) = sum x_n tau^n``, ``u = k x``, ``C = cos u``, ``S = sin u``,
+``P(tau) = cos(w (t0 + tau)) = sum P_n tau^n`` with ``P_n = w^n / n! cos(w t0 + n pi / 2)``.
+From ``C' = -S u'`` and ``S' = C u'``::
+
+    n C_n = - sum_{j=1..n} j u_j S_{n-j},      n S_n = sum_{j=1..n} j u_j C_{n-j},
+
+and the ODE gives ``(n+1)(n+2) x_{n+2} = F (C*P)_n - c (n+1) x_{n+1} - s f [n = 0]``
+(``*`` is the Cauchy product).  The variational equations
+``dx' = dv, dv' = A_x dx - c dv`` with ``A_x = -F k sin(k x) cos(w t)`` have the
+coefficient series ``-F k (S*P)`` and are integrated by the same recurrence, column by
+column, from the identity: their value is the flight matrix (no longer ``[[1, h], [0, 1]]``).
+
+Truncation bound (the proof)
+----------------------------
+Let ``D = {|tau| <= rho}`` in the complex plane and ``X, V > 0`` satisfy::
+
+    (E1)  rho (|v0| + V) <= X,
+    (E2)  rho (F cosh(k X) cosh(w rho) + f + c (|v0| + V)) <= V.
+
+*Claim:* the flight extends analytically to ``D`` with ``|x - x0| <= X`` and
+``|v - v0| <= V`` there.  Proof: on the closed set ``B`` of pairs ``(x, v)`` of functions
+continuous on ``D``, analytic inside, with those bounds, the Picard map
+``(x0 + int_0^tau v, v0 + int_0^tau a)`` (straight-line integrals, ``a`` the right-hand
+side) maps ``B`` into ``B``: for real ``x0`` and ``|x - x0| <= X``,
+``|cos(k x)| <= cosh(k |Im x|) <= cosh(k X)``, ``|cos(w (t0 + tau))| <= cosh(w rho)``, so
+``|a| <= F cosh(k X) cosh(w rho) + f + c (|v0| + V)`` and (E1), (E2) give the bounds.  It
+is Lipschitz in the sup norm with ``L = max(1, F k cosh(k X) cosh(w rho) + c)`` (because
+``|sin z| <= cosh(Im z)``), so its iterates satisfy ``|T^n p - T^n q|(tau) <= (L|tau|)^n/n!
+|p - q|`` and converge uniformly to a fixed point in ``B``: an analytic solution, equal on
+the real segment to the real flight by uniqueness.  Cauchy's estimate on ``|tau| = rho``
+gives ``|x_n| <= X / rho^n`` and ``|v_n| <= V / rho^n`` (``n >= 1``), hence for real
+``0 <= tau <= h = q rho``::
+
+    |x(t0 + tau) - sum_{n <= N+1} x_n tau^n| <= X q^{N+2} / (1 - q),
+    |v(t0 + tau) - sum_{n <= N} v_n tau^n|   <= V q^{N+1} / (1 - q).
+
+The variational matrix satisfies, along each ray, ``|dx|, |dv| <= exp(Lv rho)`` with
+``Lv = max(1, F k cosh(k X) cosh(w rho) + c)`` (integral Gronwall on the column max-norm),
+so its polynomials obey the same bound with ``J = exp(Lv rho)``.  A step takes the
+``rho`` (from a few candidates) that gives the longest ``h`` with
+``(X + V + J) q^{N+1} / (1 - q) <= 2^-(prec + EXTRA_BITS)``, ``q <= 1/2`` -- the
+truncation is then below ``2^-prec`` per step with ``EXTRA_BITS`` to spare for the
+~10^2 steps of a period.  (E1)/(E2) are checked in float64 with a relative margin of
+``1e-9``, far above float rounding.  The step's coefficients are computed in
+``prec + GUARD_BITS``-bit fixed point on the scaled series ``x(t0 + h sigma)``
+(``series_fixed``; ``series`` is the same recurrence in mpf, used for the variational
+columns and by the tests); rounding is controlled by the guard bits (not by interval
+arithmetic): ``~N^2 2^-(prec+GUARD_BITS)`` per step, below the truncation target.
+
+A flight is used by ``reference.model.Model`` (``make_flight``) for every scene with
+``position_forcing``: ``reference.events`` locates its events with the bounds below.
+
+Order: a step costs ``a N^2 + b`` (``~2 N^2`` fixed-point multiplications, ``b`` the
+step choice and conversions) and advances ``h ~ rho exp(-L/(N+1))`` with
+``L = (prec + EXTRA_BITS) ln 2``.  With ``b = 0`` the cost per unit time would be least at
+``N + 1 = L / 2``; measured (xpot, dps 30/50/100) the optimum is flat between ``0.75 L``
+and ``L``, which ``taylor_order`` takes as ``N + 1 = 0.75 L`` (N = 92 at 50 digits,
+``q ~ e^-4/3``; 0.6 dps = 30 would take 8x more steps).
+
+Event bounds over a window ``[ta, tb]`` (for certified event location): in flight
+``d|v|/dt <= F + f + c |v|``, so ``|v| <= vmax = (|v(ta)| + (F+f)/c) e^{c (tb-ta)} - (F+f)/c``
+(``|v(ta)| + (F+f)(tb-ta)`` if ``c = 0``); ``|x''| <= F + f + c vmax =: amax`` and
+``|v''| = |A_t + A_x v - c a| <= F w + F k vmax + c amax``.
+"""
+from __future__ import annotations
+
+import bisect
+import math
+from operator import mul
+
+import mpmath
+
+#: bits carried beyond the working precision in the recurrences and the dense output
+GUARD_BITS = 32
+#: bits by which each step's truncation bound undercuts the working precision
+EXTRA_BITS = 12
+#: bound on the number of Taylor steps of one flight
+MAX_STEPS = 200_000
+
+
+def taylor_order(prec: int) -> int:
+    """The cost-optimal order ``N`` for ``prec`` working bits (module docstring)."""
+    if prec < 10:
+        raise ValueError(f"prec must be >= 10 bits, got {prec}")
+    return max(8, math.ceil(0.75 * (prec + EXTRA_BITS) * math.log(2)) - 1)
+
+
+def _params(scene):
+    """``(F, f, c, k, w)`` as mpf at the current precision (``k = 0`` without position forcing)."""
+    k = scene.mpf("wavenumber")
+    return (scene.mpf("F"), scene.mpf("f"), scene.mpf("damping"),
+            mpmath.mpf(0) if k is None else k, scene.mpf("omega"))
+
+
+def series(prm, t0, x0, v0, s, N, variational=False):
+    """Taylor coefficients of one flight step at ``t0`` (current precision).
+
+    Returns ``xs`` (``x_0 .. x_{N+1}``) and, with ``variational``, the four coefficient
+    lists ``(dx1, dv1, dx2, dv2)`` (``0 .. N``) of the columns of the flight matrix.
+    """
+    F, f, c, k, w = prm
+    xs = [x0, v0] + [mpmath.mpf(0)] * N
+    ju = [mpmath.mpf(0), k * v0]                      # j u_j, u = k x
+    C, S = [mpmath.cos(k * x0)], [mpmath.sin(k * x0)]
+    cw, sw = mpmath.cos(w * t0), mpmath.sin(w * t0)
+    cyc, P, wn = (cw, -sw, -cw, sw), [], mpmath.mpf(1)
+    for n in range(N):
+        P.append(cyc[n % 4] * wn)
+        wn = wn * w / (n + 1)
+        if n >= 1:
+            C.append(-mpmath.fdot(ju[1:n + 1], S[n - 1::-1]) / n)
+            S.append(mpmath.fdot(ju[1:n + 1], C[n - 1::-1]) / n)
+        a_n = F * mpmath.fdot(C, P[::-1]) - c * (n + 1) * xs[n + 1]
+        if n == 0:
+            a_n -= s * f
+        xs[n + 2] = a_n / ((n + 1) * (n + 2))
+        ju.append(k * (n + 2) * xs[n + 2])
+    if not variational:
+        return xs, None
+    B = [-F * k * mpmath.fdot(S[:n + 1], P[n::-1]) for n in range(N)]
+    cols = []
+    for dx0, dv0 in ((1, 0), (0, 1)):
+        dx, dv = [mpmath.mpf(dx0)], [mpmath.mpf(dv0)]
+        for n in range(N):
+            dx.append(dv[n] / (n + 1))
+            dv.append((mpmath.fdot(B[:n + 1], dx[n::-1]) - c * dv[n]) / (n + 1))
+        cols += [dx, dv]
+    return xs, tuple(cols)
+
+
+def _fix(a, P):
+    """``round(a 2^P)`` as an int."""
+    return int(mpmath.nint(mpmath.ldexp(a, P)))
+
+
+def series_fixed(prm, t0, x0, v0, s, N, h, P, variational=False):
+    """``series`` for one step of length ``h``, computed in ``P``-bit fixed point on the
+    *scaled* coefficients ``X_n = x_n h^n`` (the series of ``x(t0 + h sigma)``).
+
+    The recurrences are homogeneous in ``h`` (``n C_n = -sum j U_j S_{n-j}`` etc. hold for
+    the scaled series; the ODE's terms get ``h^2 F`` and ``h c``).  For ``|tau| <= h`` every
+    scaled quantity is bounded (``|X_n| <= X q^n``, module docstring), so absolute
+    rounding of ``2^-P`` per operation costs at most ``~N^2 2^-P`` in a term ``x_n tau^n``:
+    ``P = prec + GUARD_BITS`` keeps it far below the truncation bound.  Python's integers
+    make this ~20x faster than mpf arithmetic.  Returns ``(xs, cols)`` as ``series`` does:
+    the unscaled ``x_0 .. x_{N+1}`` (mpf, current precision, for ``_horner`` in ``tau``) and
+    the variational columns or ``None``.  Scaled variational series: ``DX_n = dx_n h^n``,
+    ``DV_n = dv_n h^(n+1)``, ``DX_{n+1} = DV_n/(n+1)``,
+    ``DV_{n+1} = (h^2 (B~*DX)_n - c h DV_n)/(n+1)`` with ``B~ = -F k (S~*P~)``.
+    """
+    F, f, c, k, w = prm
+    one = 1 << P
+    kf, Fh2, ch = _fix(k, P), _fix(F * h * h, P), _fix(c * h, P)
+    X = [_fix(x0, P), _fix(v0 * h, P)] + [0] * N
+    JU = [0, (kf * X[1]) >> P]
+    C, S = [_fix(mpmath.cos(k * x0), P)], [_fix(mpmath.sin(k * x0), P)]
+    cw, sw = _fix(mpmath.cos(w * t0), P), _fix(mpmath.sin(w * t0), P)
+    cyc, wh, pw, Pn = (cw, -sw, -cw, sw), _fix(w * h, P), one, []
+    sfh2 = _fix(s * f * h * h, P)
+    for n in range(N):
+        Pn.append((cyc[n % 4] * pw) >> P)
+        pw = (pw * wh >> P) // (n + 1)
+        if n >= 1:
+            C.append(-((sum(map(mul, JU[1:n + 1], reversed(S))) >> P) // n))
+            S.append((sum(map(mul, JU[1:n + 1], reversed(C[:n]))) >> P) // n)
+        q = sum(map(mul, C, reversed(Pn))) >> P
+        a_n = ((Fh2 * q) >> P) - ((ch * (n + 1) * X[n + 1]) >> P) - (sfh2 if n == 0 else 0)
+        X[n + 2] = a_n // ((n + 1) * (n + 2))
+        JU.append((kf * (n + 2) * X[n + 2]) >> P)
+    hinv = 1 / h
+    out = _unscale(X, P, hinv, mpmath.mpf(1))
+    if not variational:
+        return out, None
+    Bh2 = [(-_fix(F * k * h * h, P) * (sum(map(mul, S[:n + 1], reversed(Pn[:n + 1]))) >> P)) >> P
+           for n in range(N)]
+    cols = []
+    for DX, DV in (([one], [0]), ([0], [_fix(h, P)])):
+        for n in range(N):
+            DX.append(DV[n] // (n + 1))
+            DV.append(((sum(map(mul, Bh2[:n + 1], reversed(DX[:n + 1]))) >> P)
+                       - ((ch * DV[n]) >> P)) // (n + 1))
+        cols += [_unscale(DX, P, hinv, mpmath.mpf(1)), _unscale(DV, P, hinv, hinv)]
+    return out, tuple(cols)
+
+
+def _unscale(Z, P, hinv, scale):
+    """``[Z_n 2^-P scale hinv^n]``: fixed-point scaled coefficients back to mpf."""
+    out = []
+    for z in Z:
+        out.append(mpmath.ldexp(z, -P) * scale)
+        scale *= hinv
+    return out
+
+
+def _enclosure(fl, v0abs, rho):
+    """``(X, V)`` satisfying (E1), (E2) of the module docstring, or ``None``."""
+    F, f, c, k, w = fl
+    chw = math.cosh(w * rho)
+    V = rho * (F * chw + f + c * v0abs)
+    for _ in range(80):
+        X = rho * (v0abs + V)
+        if k * X > 700:
+            return None
+        need = rho * (F * math.cosh(k * X) * chw + f + c * (v0abs + V))
+        if need * (1 + 1e-9) <= V:
+            return X, V
+        V = 1.05 * need
+    return None
+
+
+def step_certificate(fl, v0abs, N, bits, variational=True):
+    """The step and its proof data: ``dict(h, rho, q, X, V, J)`` (module docstring).
+
+    Tries ``rho = rho0 2^(j/3)``, ``j = -12..8``, around the natural scale
+    ``rho0 = 1 / max(w, k (|v0| + 1), sqrt(F (k + 1) + f), c)`` and keeps the one with the
+    longest step ``h = q rho``, ``q = min(1/2, (2^-bits / (2 M))^(1/(N+1)))``,
+    ``M = X + V (+ J)``, so that ``M q^(N+1) / (1 - q) <= 2^-bits``.
+    """
+    F, f, c, k, w = fl
+    rho0 = 1.0 / max(w, k * (v0abs + 1.0), math.sqrt(F * (k + 1.0) + f), c, 1e-300)
+    best = None
+    for j in range(-12, 9):
+        rho = rho0 * 2.0 ** (j / 3)
+        enc = _enclosure(fl, v0abs, rho)
+        if enc is None:
+            continue
+        X, V = enc
+        J = math.exp(max(1.0, F * k * math.cosh(k * X) * math.cosh(w * rho) + c) * rho)
+        M = X + V + (J if variational else 0.0)
+        q = min(0.5, math.exp((-bits * math.log(2) - math.log(2 * M)) / (N + 1)))
+        h = q * rho * (1 - 1e-12)          # below q rho despite float rounding
+        if best is None or h > best["h"]:
+            best = dict(h=h, rho=rho, q=q, X=X, V=V, J=J)
+    if best is None:
+        raise RuntimeError(f"taylor: no a-priori enclosure found (|v0|={v0abs}, params={fl})")
+    return best
+
+
+def choose_step(fl, v0abs, N, bits, variational=True):
+    """A step ``h`` whose truncation bound is below ``2**-bits`` (``step_certificate``)."""
+    return step_certificate(fl, v0abs, N, bits, variational)["h"]
+
+
+def _horner(coeffs, tau):
+    acc = coeffs[-1]
+    for a in reversed(coeffs[:-1]):
+        acc = acc * tau + a
+    return acc
+
+
+def _deriv(coeffs):
+    return [n * a for n, a in enumerate(coeffs)][1:]
+
+
+class TaylorFlight:
+    """One flight with friction sign ``s`` from ``(t0, x0, v0)`` by certified Taylor steps.
+
+    Implements the flight interface of ``reference.flows`` (``t_start``, ``x_start``,
+    ``v_start``, ``s``, ``evaluate``, ``jerk``, ``bound_x2``, ``bound_v2``, ``bound_a2``,
+    ``max_window``, ``noise_x``, ``noise_v``, ``noise_a``) plus ``state``,
+    ``acceleration`` and ``jacobian`` (the flight matrix, from the variational
+    equations, computed lazily per step).  Steps are taken lazily and kept.  Results
+    are at the caller's working precision; inside, the working precision at
+    construction plus ``GUARD_BITS``.  ``s = 0`` is allowed when ``f = 0``.
+    """
+
+    max_window = None
+
+    def __init__(self, scene, t0, x0, v0, s, *, order=None, noise=None):
+        if s not in (1, -1, 0):
+            raise ValueError(f"s must be +1, -1 (or 0 without friction), got {s!r}")
+        for name, val in (("t0", t0), ("x0", x0), ("v0", v0)):
+            if not mpmath.isfinite(mpmath.mpf(val)):
+                raise ValueError(f"{name} must be finite, got {val!r}")
+        self.scene, self.s = scene, s
+        self.prec = mpmath.mp.prec
+        self.iprec = self.prec + GUARD_BITS
+        self.order = taylor_order(self.prec) if order is None else int(order)
+        if self.order < 2:
+            raise ValueError(f"order must be >= 2, got {order!r}")
+        with mpmath.workprec(self.iprec):
+            self.prm = _params(scene)
+            if s == 0 and self.prm[1] != 0:
+                raise ValueError("s = 0 needs a frictionless scene (f = 0)")
+            self._fl = tuple(float(p) for p in self.prm)
+            t0, x0, v0 = mpmath.mpf(t0), mpmath.mpf(x0), mpmath.mpf(v0)
+        self.t_start, self.x_start, self.v_start = +t0, +x0, +v0
+        eps = mpmath.ldexp(1, -self.prec + 12)
+        self.noise_x, self.noise_v, self.noise_a = noise or (
+            eps * (1 + abs(x0) + abs(v0)), eps * (1 + abs(v0)), eps * (1 + self.prm[0] + self.prm[1]))
+        self._starts = [t0]
+        self._state0 = [(x0, v0)]           # state at each step start
+        self._steps = []                    # (h, xs, vs)
+        self._cols = []                     # variational polynomials per step (lazy)
+        self._jac0 = [mpmath.eye(2)]        # flight matrix at each step start (lazy)
+
+    # -- stepping ----------------------------------------------------------------------
+    def _take_step(self):
+        i = len(self._steps)
+        if i >= MAX_STEPS:
+            raise RuntimeError(f"taylor: more than {MAX_STEPS} steps (t={self._starts[-1]}, "
+                               f"x, v={self._state0[-1]}, mode=flight s={self.s})")
+        with mpmath.workprec(self.iprec):
+            t, (x, v) = self._starts[i], self._state0[i]
+            h = mpmath.mpf(choose_step(self._fl, abs(float(v)), self.order,
+                                       self.prec + EXTRA_BITS, True))
+            xs, _ = series_fixed(self.prm, t, x, v, self.s, self.order, h, self.iprec)
+            vs = _deriv(xs)
+            self._steps.append((h, xs, vs))
+            self._starts.append(t + h)
+            self._state0.append((_horner(xs, h), _horner(vs, h)))
+
+    def _variational_upto(self, i):
+        with mpmath.workprec(self.iprec):
+            while len(self._cols) <= i:
+                j = len(self._cols)
+                (x, v), t = self._state0[j], self._starts[j]
+                _, cols = series_fixed(self.prm, t, x, v, self.s, self.order,
+                                       self._steps[j][0], self.iprec, variational=True)
+                self._cols.append(cols)
+                self._jac0.append(self._step_matrix(cols, self._steps[j][0]) * self._jac0[j])
+
+    @staticmethod
+    def _step_matrix(cols, tau):
+        dx1, dv1, dx2, dv2 = (_horner(p, tau) for p in cols)
+        return mpmath.matrix([[dx1, dx2], [dv1, dv2]])
+
+    def _locate(self, t):
+        """Index of the step containing ``t`` and ``tau = t - start`` (internal precision)."""
+        with mpmath.workprec(self.iprec):
+            t = mpmath.mpf(t)
+            if not mpmath.isfinite(t) or t < self._starts[0]:
+                raise ValueError(f"t must be finite and >= t0 = {self._starts[0]}, got {t}")
+            while self._starts[-1] < t:
+                self._take_step()
+            i = max(0, bisect.bisect_left(self._starts, t) - 1)
+            return i, t - self._starts[i]
+
+    # -- the flight interface ----------------------------------------------------------
+    def state(self, t):
+        """``(x(t), v(t))`` at the working precision."""
+        i, tau = self._locate(t)
+        with mpmath.workprec(self.iprec):
+            if i < len(self._steps):
+                _, xs, vs = self._steps[i]
+                x, v = _horner(xs, tau), _horner(vs, tau)
+            else:
+                x, v = self._state0[i]
+        return +x, +v
+
+    def _accel(self, x, v, t):
+        F, f, c, k, w = self.prm
+        return F * mpmath.cos(k * x) * mpmath.cos(w * t) - self.s * f - c * v
+
+    def acceleration(self, t):
+        """``a = F cos(k x) cos(w t) - s f - c v`` at ``(x(t), v(t))``."""
+        x, v = self.state(t)
+        with mpmath.workprec(self.iprec):
+            a = self._accel(x, v, mpmath.mpf(t))
+        return +a
+
+    def evaluate(self, t):
+        """``(x, v, a)`` at ``t`` (the ``reference.flows`` interface)."""
+        x, v = self.state(t)
+        with mpmath.workprec(self.iprec):
+            a = self._accel(x, v, mpmath.mpf(t))
+        return x, v, +a
+
+    def jerk(self, t, x, v, a):
+        """``a' = A_t + A_x v - c a = -F w cos(kx) sin(wt) - F k sin(kx) cos(wt) v - c a``."""
+        with mpmath.workprec(self.iprec):
+            F, f, c, k, w = self.prm
+            cx, sx = mpmath.cos_sin(k * x)
+            ct, st = mpmath.cos_sin(w * t)
+            da = -F * w * cx * st - F * k * sx * ct * v - c * a
+        return +da
+
+    def jacobian(self, t):
+        """The flight matrix ``d(x(t), v(t)) / d(x0, v0)`` (variational equations)."""
+        i, tau = self._locate(t)
+        if i < len(self._steps):
+            self._variational_upto(i)
+        with mpmath.workprec(self.iprec):
+            if i < len(self._steps):
+                m = self._step_matrix(self._cols[i], tau) * self._jac0[i]
+            else:
+                m = self._jac0[i]
+        return mpmath.matrix([[+m[0, 0], +m[0, 1]], [+m[1, 0], +m[1, 1]]])
+
+    def _bounds(self, ta, tb):
+        """``(vmax, amax, a1max)`` over ``[ta, tb]`` (module docstring)."""
+        if not tb >= ta:
+            raise ValueError(f"need tb >= ta, got ta={ta}, tb={tb}")
+        _, va = self.state(ta)
+        F, f, c, k, w = self.prm
+        dt = mpmath.mpf(tb) - mpmath.mpf(ta)
+        if c > 0:
+            vmax = (abs(va) + (F + f) / c) * mpmath.exp(c * dt) - (F + f) / c
+        else:
+            vmax = abs(va) + (F + f) * dt
+        amax = F + f + c * vmax
+        return vmax, amax, F * w + F * k * vmax + c * amax
+
+    def _up(self, value):
+        return +(value * (1 + mpmath.ldexp(1, -self.prec + 4)))
+
+    def bound_x2(self, ta, tb):
+        """``|x''| <= F + f + c vmax`` over ``[ta, tb]``."""
+        with mpmath.workprec(self.iprec):
+            return self._up(self._bounds(ta, tb)[1])
+
+    def bound_v2(self, ta, tb):
+        """``|v''| = |A_t + A_x v - c a| <= F w + F k vmax + c amax`` over ``[ta, tb]``."""
+        with mpmath.workprec(self.iprec):
+            return self._up(self._bounds(ta, tb)[2])
+
+    def bound_a2(self, ta, tb):
+        """``|a''| = |A_tt + 2 A_xt v + A_xx v^2 + A_x a - c a'|`` over ``[ta, tb]``:
+        ``<= F w^2 + 2 F k w vmax + F k^2 vmax^2 + F k amax + c a1max``."""
+        with mpmath.workprec(self.iprec):
+            F, f, c, k, w = self.prm
+            vmax, amax, a1max = self._bounds(ta, tb)
+            return self._up(F * w * w + 2 * F * k * w * vmax + F * k * k * vmax * vmax
+                            + F * k * amax + c * a1max)
+
+    def steps_taken(self):
+        """Number of Taylor steps computed so far."""
+        return len(self._steps)
+
+
+def make_flight(model, t0, x0, v0, s):
+    """The flight factory ``reference.model.Model`` calls for position-dependent forcing.
+
+    Noise floors as ``reference.flows.BaseFlight``: ``eps (x_scale + |x0| + |v0| T)``,
+    ``eps (v_scale + |v0|)``, ``eps a_scale`` with the model's ``eps`` and scales.
+    """
+    eps = model.eps
+    noise = (eps * (model.x_scale + abs(x0) + abs(v0) * model.T),
+             eps * (model.v_scale + abs(v0)), eps * model.a_scale)
+    return TaylorFlight(model.scene, t0, x0, v0, s, noise=noise)
+
+
+def equilibrium_intervals(scene):
+    """The rest points of the scene: ``x`` in ``[l, r]`` with ``|F cos(k x)| <= f``.
+
+    A particle at rest at ``x`` (interior: sticking; at a wall: wall contact, which holds
+    while ``A >= -f`` at ``r`` / ``A <= f`` at ``l``) stays for all time iff
+    ``|F cos(k x) cos(w t)| <= f`` for every ``t``, i.e. ``|F cos(k x)| <= f`` since
+    ``cos(w t)`` takes every value in ``[-1, 1]``.  With ``alpha = arccos(f/F)``
+    (``f < F``), ``|cos(k x)| <= f/F`` iff ``k x mod pi`` lies in ``[alpha, pi - alpha]``,
+    so the set is the union over integers ``m`` of ``[(alpha + m pi)/k, (pi - alpha + m pi)/k]``
+    cut to ``[l, r]``.  Without position forcing it is ``[l, r]`` if ``F <= f`` else empty.
+    (For eq. ``xpot``, ``k = pi/2`` on ``[-1, 1]``: ``[-1, -eta'] U [eta', 1]`` with
+    ``eta' = (2/pi) arccos(f/F)``, i.e. the wall layers have width ``(2/pi) arcsin(f/F)``.)
+    Returns a list of ``(lo, hi)`` mpf pairs at the working precision, in increasing order.
+    """
+    F, f, _, k, _ = _params(scene)
+    l, r = scene.mpf("l"), scene.mpf("r")
+    if F <= f:
+        return [(l, r)]
+    if k == 0:
+        return []
+    alpha = mpmath.acos(f / F)
+    m_lo = int(mpmath.floor(k * l / mpmath.pi)) - 1
+    m_hi = int(mpmath.ceil(k * r / mpmath.pi)) + 1
+    if m_hi - m_lo > 10**6:
+        raise ValueError(f"wavenumber * (r - l) too large for an interval list: {k * (r - l)}")
+    out = []
+    for m in range(m_lo, m_hi + 1):
+        lo = max(l, (alpha + m * mpmath.pi) / k)
+        hi = min(r, (mpmath.pi - alpha + m * mpmath.pi) / k)
+        if lo <= hi:
+            out.append((lo, hi))
+    return out
+
+
+def flight_matrix(model, t0, x0, v0, t1):
+    """The flight matrix over ``[t0, t1]`` of the flight starting at ``(t0, x0, v0)``.
+
+    For ``reference.jacobian.product_of_table1`` under position forcing, where the flight
+    matrix is no longer ``[[1, h], [0, 1]]`` but the solution of the variational equations
+    (the impact, turn, stick and contact matrices of Table 1 are unchanged, with
+    ``A = A(x*, t*)``: their saltation derivation only uses ``a+ + a- = 2 A`` at the event).
+    The sign is ``sgn(v0)``, or ``sgn(A(x0, t0))`` for a flight from rest (after a turn,
+    slip or release ``|A| >= f`` there), or 0 without friction.  Returns a 2x2 list.
+    """
+    if not model.friction:
+        s = 0
+    elif v0 != 0:
+        s = 1 if v0 > 0 else -1
+    else:
+        s = 1 if model.force(x0, t0) > 0 else -1
+    J = TaylorFlight(model.scene, t0, x0, v0, s).jacobian(t1)
+    return [[J[0, 0], J[0, 1]], [J[1, 0], J[1, 1]]]
