@@ -192,10 +192,10 @@ TOLERANCES = {
             "1e-50/1e-15 = 1e-35"),
     "ode_vs_taylor_flight": Tol(
         rtol=1e-13, atol=1e-13,
-        why="fast DOP853 flight (64 fixed steps a period, order 8, dense output of order 7) "
+        why="fast DOP853 flight (96 steps per 2 pi / Lambda, order 8, dense output of order 7) "
             "against the Taylor flight at 30 digits, for |v| <= 4 and up to one period, x, v "
             "and the flight matrix: measured ~1e-15 (order-8 local error (h Lambda)^9 with "
-            "Lambda = max(w, k |v|) <= 2 pi, h = 1/64, summed over 64 steps, plus ~1e2 ulp "
+            "Lambda = max(w, k |v|, sqrt(F k)), h Lambda = 2 pi/96, plus ~1e2 ulp "
             "of rounding); 1e-13 is fast_one_period_max's budget for a flight.  Also the "
             "period Jacobian of fast.ode.ode_map against differences of the reference map "
             "(Table 1's event matrices are a few exact float products on top)"),
@@ -266,4 +266,47 @@ TOLERANCES.update({
             "max(1, |Phi'|): each impact factor 2 A / v- moves by ~|dt| |A'| / |v-| + "
             "2 |A| |dv| / v-^2 for event-time and velocity errors ~1e-15, so ~1e-13 / v-^2 "
             "per impact; 1e-10 admits impacts down to |v-| ~ 0.03 (fixed states, no grazing)"),
+})
+
+# --- reference chatter and the issue 6 effects (tests/test_reference_chatter.py,
+#     tests/test_effect_claims.py; owner: reference chatter/effects) ---------------------
+TOLERANCES.update({
+    "ref_chatter_time_dps50": Tol(
+        rtol=0.0, atol=1e-45,
+        why="issue 6: chatter accumulation time at dps 50 against dps 80.  The bounces are "
+            "solved wall-relative (chatter.wall_bounce), so impact times and speeds keep "
+            "full relative precision (62 working digits); the tail extrapolation has a "
+            "Lebesgue constant <= 2^(prec/5) ~ 1e12 on its nodes and stops when two "
+            "extrapolations agree to 1e-50 T: 1e-62 x 1e12 = 1e-50; 1e-45 leaves 5 digits "
+            "(measured 1e-52..1e-53 on e in {0.5, 0.9, 0.99}, f/F in {0.3, 0.01, 0.001})"),
+    "ref_chatter_time_dps30": Tol(
+        rtol=0.0, atol=1e-25,
+        why="ref_chatter_time_dps50's derivation at dps 30 (42 working digits): Lebesgue "
+            "constant <= 2^(prec/5) ~ 1e8 and the agreement test at 1e-30 T; 1e-25 leaves 5 "
+            "digits, as at dps 50"),
+    "ref_chatter_bounce_rel_dps50": Tol(
+        rtol=1e-55, atol=0.0,
+        why="one wall-relative bounce (duration, height, speed) at dps 50 (62 working "
+            "digits) against dps 80, relative: each is a root of a difference-free closed "
+            "form found to 2^-(prec-8) relative, ~1e-59; 1e-55 leaves 4 digits for the "
+            "conditioning of the two-phase bounce (|d t_impact / d t_turn| ~ 1)"),
+    "effects_det_identity": Tol(
+        rtol=1e-40, atol=0.0,
+        why="det of the reference Table 1 product (dps 50) against the closed form "
+            "e^(2 n) exp(-c T): each factor is exact to 62 digits, the product of ~10 "
+            "factors and the 2x2 determinant lose a few; relative 1e-40 leaves 20 digits"),
+    "effects_det_fd": Tol(
+        rtol=1e-20, atol=1e-20,
+        why="det of a central-difference Jacobian (ref_fd_jacobian's 1e-25 per entry, "
+            "entries up to ~10^2 on the orbits used: det error <= 4 x 1e-25 x 10^2 x 10^2 "
+            "~ 4e-21) against the closed form; 1e-20"),
+})
+
+# --- figures (cross_check/figures.py, issue 7), continued ------------------------------
+TOLERANCES.update({
+    "fig_caption_4_decimals": Tol(
+        rtol=0.0, atol=5e-5,
+        why="issue 7: a number printed in a caption with 4 decimals (fig:fig's multipliers 0.3159, "
+            "3.1659) is the true value rounded, within half a unit of the last digit; the computed "
+            "multipliers carry ~1e-10 (Newton residual 1e-11 times the saddle's conditioning)"),
 })

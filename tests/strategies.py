@@ -157,3 +157,25 @@ def fast_batches(draw, scene: Scene, n: int = 16, vmax: float = 2.0):
     x = np.clip(rng.uniform(l, r, n), l, r)
     v = rng.uniform(-vmax, vmax, n)
     return x, v
+
+
+# --- effects: chatter (tests/test_reference_chatter.py) -------------------------------------
+@st.composite
+def chattering_orbits(draw):
+    """``(scene, x, v)``: a particle on the wall ``r = 1`` at ``t = 0`` moving into it with a
+    small speed ``u0`` while ``A = cos 0 = 1`` pushes (``F = w = 1``, ``l = 0``).
+
+    Either ``f = 0`` with restitution ``e`` in [0.3, 0.97] or ``e`` in [0.8, 1] with
+    ``f`` in [0.02, 0.5]; ``u0`` is at most ``0.3 / c1`` with the frozen-force tail length
+    per unit speed ``c1 = e (1/(1+f) + 1/sqrt(1-f^2)) / (1 - rho)``, ``rho = e sqrt((1-f)/(1+f))``:
+    the tail (<= 0.3) ends while ``cos t >= cos 0.3 > 0.95 > f`` still pushes.
+    """
+    if draw(st.booleans()):
+        e, f = draw(decimals(0.3, 0.97, 2)), "0"
+    else:
+        e, f = draw(decimals(0.8, 1.0, 2)), draw(decimals(0.02, 0.5, 2))
+    ef, ff = float(e), float(f)
+    rho = ef * math.sqrt((1 - ff) / (1 + ff))
+    c1 = ef * (1 / (1 + ff) + 1 / math.sqrt(1 - ff * ff)) / (1 - rho)
+    u0 = draw(st.floats(0.01, 1.0)) * min(0.1, 0.3 / c1)
+    return Scene(F="1", f=f, omega="1", l="0", r="1", restitution=e), "1", f"{u0:.6g}"

@@ -1,0 +1,146 @@
+"""Public entry points of ``fast``: validation, batching over chunks and threads.
+
+States are processed in chunks of ``CHUNK`` (16384: measured best of 4096..65536, the
+larger chunks amortise the per-ufunc Python overhead); chunks run on up to
+``THREADS`` threads (numpy releases the GIL inside its ufuncs).  Every state's result
+depends on that state only, so the chunking never changes a number.
+"""
+from __future__ import annotations
+
+import os
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from . import kernel, ode
+from .params import Params
+
+CHUNK = 16384
+THREADS = min(2, os.cpu_count() or 1)
+
+
+def _validate(P, x, v):
+    x, v = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(v, dtype=float))
+    for name, a in (("x", x), ("v", v)):
+        bad = ~np.isfinite(a)
+        if bad.any():
+            where = np.argwhere(bad)[:5]
+            items = ", ".join(f"{name}[{', '.join(map(str, i))}] = {float(a[tuple(i)])!r}" for i in where)
+            raise ValueError(f"fast: non-finite state: {items} ({int(bad.sum())} in all)")
+    bad = (x < P.l) | (x > P.r)
+    if bad.any():
+        where = np.argwhere(bad)[:5]
+        items = ", ".join(f"x[{', '.join(map(str, i))}] = {float(x[tuple(i)])!r}" for i in where)
+        raise ValueError(f"fast: {items} is outside the walls [{P.l!r}, {P.r!r}] "
+                         f"({int(bad.sum())} state(s) in all)")
+    return x, v
+
+
+def _params(scene):
+    """The closed-form float64 parameters (base model and restitution e < 1); scenes
+    with position forcing get ``fast.ode``'s (``Params.from_scene`` routes them), and so
+    do scenes with damping c > 0, which has no closed-form float64 flight here yet
+    (numerical flights of ``fast.ode``; never silently ignored)."""
+    try:
+        return Params.from_scene(scene)
+    except NotImplementedError:
+        return ode.OdeParams.from_scene(scene)
+
+
+def _run_all(P, x, v, t_end, jac=False, log=None):
+    """Run the kernel over flat arrays in chunks; returns (x, v, zv, J)."""
+    if not isinstance(P, Params):           # position forcing: fast.ode's event loop
+        return ode.run_all(P, x, v, t_end, jac=jac, log=log)
+    n = x.size
+    starts = list(range(0, n, CHUNK)) or [0]
+
+    def one(i0):
+        sl = slice(i0, min(i0 + CHUNK, n))
+        return kernel.run(P, x[sl], v[sl], t_end, jac=jac, log=log, offset=i0)
+
+    if log is None and THREADS > 1 and len(starts) > 1:
+        with ThreadPoolExecutor(THREADS) as pool:
+            parts = list(pool.map(one, starts))
+    else:
+        parts = [one(i0) for i0 in starts]
+    if log is not None and len(starts) > 1:
+        raise AssertionError("event logs are gathered for a single chunk only")
+    xs = np.concatenate([p[0] for p in parts])
+    vs = np.concatenate([p[1] for p in parts])
+    zv = np.concatenate([p[2] for p in parts])
+    J = np.concatenate([p[3] for p in parts]) if jac else None
+    return xs, vs, zv, J
+
+
+def stroboscopic_map(scene, x, v, *, periods=1):
+    """``Phi^periods(x, v)``: the state at ``t = periods T`` of the motion from ``(x, v)``
+    at ``t = 0`` (each period from ``t0 = 0``: the forcing is ``T``-periodic).
+
+    ``x, v`` broadcast together; returns arrays of the broadcast shape.
+    """
+    if int(periods) != periods or periods < 0:
+        raise ValueError(f"fast: periods must be an integer >= 0, got {periods!r}")
+    P = _params(scene)
+    x, v = _validate(P, x, v)
+    shape = x.shape
+    xs, vs = x.ravel().copy(), v.ravel().copy()
+    for _ in range(int(periods)):
+        xs, vs, _, _ = _run_all(P, xs, vs, P.T)
+    return xs.reshape(shape), vs.reshape(shape)
+
+
+def orbit(scene, x, v, n):
+    """Iterates ``Phi^k(x, v)``, ``k = 0..n``: arrays of shape ``(n + 1,) + shape``."""
+    if int(n) != n or n < 0:
+        raise ValueError(f"fast: n must be an integer >= 0, got {n!r}")
+    P = _params(scene)
+    x, v = _validate(P, x, v)
+    X = np.empty((int(n) + 1,) + x.shape)
+    V = np.empty_like(X)
+    X[0], V[0] = x, v
+    xs, vs = x.ravel().copy(), v.ravel().copy()
+    for i in range(1, int(n) + 1):
+        xs, vs, _, _ = _run_all(P, xs, vs, P.T)
+        X[i], V[i] = xs.reshape(x.shape), vs.reshape(x.shape)
+    return X, V
+
+
+def jacobian(scene, x, v):
+    """``Phi'`` over one period, shape ``shape + (2, 2)``: the time-ordered product of the
+    paper's Table 1 matrices (reflection with the velocity before impact; sticking
+    ``[[1, 0], [0, 0]]``; wall contact the zero matrix)."""
+    P = _params(scene)
+    x, v = _validate(P, x, v)
+    _, _, _, J = _run_all(P, x.ravel(), v.ravel(), P.T, jac=True)
+    return J.reshape(x.shape + (2, 2))
+
+
+def zero_velocity(scene, x, v):
+    """Whether the motion over ``[0, T]`` reaches zero velocity (turn, stick, contact,
+    chatter; with ``f = 0`` a smooth velocity reversal counts too): the paper's
+    ``Omega_dissip``; the rest is ``Omega_pres``."""
+    P = _params(scene)
+    x, v = _validate(P, x, v)
+    _, _, zv, _ = _run_all(P, x.ravel(), v.ravel(), P.T)
+    return zv.reshape(x.shape)
+
+
+def map_and_jacobian(scene, x, v):
+    """``(x1, v1, J, zero_velocity)`` over one period in one pass."""
+    P = _params(scene)
+    x, v = _validate(P, x, v)
+    xs, vs, zv, J = _run_all(P, x.ravel(), v.ravel(), P.T, jac=True)
+    sh = x.shape
+    return xs.reshape(sh), vs.reshape(sh), J.reshape(sh + (2, 2)), zv.reshape(sh)
+
+
+def flow(scene, x, v, t_end):
+    """The state at ``t_end`` (any ``t_end >= 0``) of the motion from ``(x, v)`` at 0,
+    in one pass (``stroboscopic_map`` restarts each period at ``t = 0`` instead)."""
+    P = _params(scene)
+    x, v = _validate(P, x, v)
+    t_end = float(t_end)
+    if not (t_end >= 0 and np.isfinite(t_end)):
+        raise ValueError(f"fast: t_end must be finite and >= 0, got {t_end!r}")
+    xs, vs, _, _ = _run_all(P, x.ravel(), v.ravel(), t_end)
+    return xs.reshape(x.shape), vs.reshape(x.shape)
