@@ -80,11 +80,11 @@ TOLERANCES = {
         rtol=1e-40, atol=1e-40,
         why="golden values are written with 40 significant digits from a dps-90 run; the "
             "dps-90 and dps-110 runs must agree to those 40 digits (errors scaled by "
-            "max(1, |value|)): dps_tol(90, lost_digits=50) = 1e-40.  The 50 lost digits are "
-            "set by the chatter accumulation time t_inf, which carries only ~dps/2 + 4 digits "
-            "(measured on R=20, f=0.1: dps 60 -> 34, 70 -> 39, 90 -> 49, 110 -> 59 digits: the "
-            "late bounce times are near-tangential roots, sqrt of the noise floor); everything "
-            "else loses at most the 20 digits ref_map_dps50 allows"),
+            "max(1, |value|)): dps_tol(90, lost_digits=50) = 1e-40.  dps 90 was chosen when "
+            "the reference's chatter accumulation time carried only ~dps/2 + 4 digits "
+            "(measured on R=20, f=0.1: dps 60 -> 34, 90 -> 49); since reference commit "
+            "71a882a it is good to working precision (dps 50 -> 51 digits), so the 50 digits "
+            "are now margin; everything else loses at most the 20 ref_map_dps50 allows"),
     "golden_reference_state": Tol(
         rtol=1e-30, atol=1e-30,
         why="reference at dps 50 against the 40-digit golden data: ref_map_dps50's 1e-30 "
@@ -96,11 +96,11 @@ TOLERANCES = {
             "relative (max(1, |value|)): near grazing the entry 2A/v- is as large as 1e13 "
             "and carries the relative error of v-, not an absolute one"),
     "golden_reference_chatter_time": Tol(
-        rtol=1e-25, atol=1e-25,
-        why="the chatter accumulation time t_inf of the reference carries ~dps/2 + 4 digits "
-            "(measured, R=20 f=0.1: dps 60 -> 34, 70 -> 39, 90 -> 49, 110 -> 59; the last "
-            "simulated bounces are near-tangential roots, accurate to the square root of the "
-            "noise floor): 29 digits at dps 50, 4 digits of margin"),
+        rtol=1e-30, atol=1e-30,
+        why="the chatter accumulation time t_inf of the reference at dps 50 against golden: "
+            "the same 1e-30 as golden_reference_state (since reference commit 71a882a t_inf "
+            "is summed to working precision: 51 digits at dps 50, measured on R=20, f=0.1; "
+            "before it carried ~dps/2 + 4 digits, which is why this entry exists apart)"),
     "golden_fast_phi_per_cond": Tol(
         rtol=1e-13, atol=1e-13,
         why="fast's Phi and event times against golden, error scaled by max(1,|value|) and "
