@@ -1,0 +1,270 @@
+"""Golden data: the reference's answers on the paper's scenes, at 40 significant digits.
+
+``python -m cross_check golden [--out DIR] [--scenes NAME ...]`` writes one JSON file per scene
+(default ``tests/data/golden/``).  Each file holds, for every state of interest
+(``cross_check.scenes.states_of_interest``: a seeded sample and the constructed hard cases):
+
+* the state (strings; ``exact`` says whether they denote float64 numbers or decimals);
+* for each *input* -- ``exact`` (the state itself) and, for decimal hard cases, ``float64``
+  (the state rounded to float64, what a float integrator actually sees) -- the map
+  ``Phi(x, v)``, the Jacobian ``Phi'`` (or ``null`` with the reason, e.g. at grazing where it
+  is undefined; written with ``DIGITS - ceil(log10 kappa)`` digits, ``kappa`` the grazing
+  conditioning ``(F/w)/min|v-|``) and the event log over ``[0, T]`` in ``compare.canonical``
+  form (kind, t, x, v after, v before); for float64 inputs, ``band``: whether
+  the reference's itinerary flips under a ``compare_band_ulps`` move (``compare.reference_in_band``);
+
+every number from ``reference`` at ``GOLDEN_DPS`` digits, written with ``DIGITS`` significant
+digits, after checking that a run at ``GOLDEN_DPS + 20`` digits agrees to those digits
+(tolerance ``golden_self_agreement``) and has the same itinerary.  If any check fails, nothing
+is written (``GoldenError``).  Provenance (mpmath version and backend, dps, the scene's exact
+parameters, how each state was made) is recorded; the date is not, so that regenerating gives
+byte-identical files (keys in a fixed order, a list of scalars per line: ``dumps``).
+Why dps 90: the chatter accumulation time carries only ~dps/2 + 4 digits (see the tolerance).
+"""
+from __future__ import annotations
+
+import json
+import math
+import pathlib
+import sys
+import time
+
+import mpmath
+
+from cross_check import compare, scenes
+from cross_check.tolerances import tol
+
+GOLDEN_DPS = 90
+CHECK_DPS = GOLDEN_DPS + 20
+DIGITS = 40
+N_SAMPLE = 8
+FORMAT = 1
+DEFAULT_DIR = pathlib.Path(__file__).resolve().parents[1] / "tests" / "data" / "golden"
+
+
+class GoldenError(RuntimeError):
+    """Self-agreement failed: the golden data would not be trustworthy."""
+
+
+def fmt(value, digits: int = DIGITS) -> str | None:
+    """``digits`` significant digits, deterministic (``None`` stays ``None``)."""
+    if value is None:
+        return None
+    with mpmath.workdps(DIGITS + 10):
+        return mpmath.nstr(mpmath.mpf(value), digits, strip_zeros=False)
+
+
+def scene_record(sc) -> dict:
+    """The scene's exact parameters as given (strings), plus its name and effects."""
+    rec = {"name": sc.name}
+    for k in ("F", "f", "omega", "l", "r", "restitution", "damping", "wavenumber"):
+        value = getattr(sc, k)
+        rec[k] = None if value is None else str(value)
+    rec["effects"] = sorted(sc.effects)
+    return rec
+
+
+def compute(sc, case, dps: int) -> dict:
+    """Map, Jacobian and one-period event log of ``reference`` at ``dps`` (mpf values)."""
+    out = {"phi": compare.ref_map(sc, case, 1, dps)}
+    try:
+        out["jacobian"] = compare.ref_jacobian(sc, case, dps)
+        out["jacobian_note"] = None
+    except (ValueError, ArithmeticError) as exc:   # undefined (grazing): the reference says why
+        out["jacobian"], out["jacobian_note"] = None, f"{type(exc).__name__}: {exc}"
+    out["events"] = compare.ref_events(sc, case, None, dps)
+    return out
+
+
+def kappa(sc, res) -> float:
+    """Conditioning of the Jacobian: ``max(1, max over impacts of (F/w) / |v-|)``.
+
+    The saltation entry ``2A/v-`` carries the relative error of ``v-``, whose absolute error
+    is of the order of the velocity unit ``F/w`` times the working precision.
+    """
+    unit = max(sc.float("F") / sc.float("omega"), sc.float("f") / sc.float("omega"), 1e-300)
+    k = 1.0
+    for e in compare.canonical(res["events"], sc):   # bounces of a chatter run: not physics
+        if e.kind == "impact" and e.v_before is not None and e.v_before != 0:
+            k = max(k, unit / abs(float(e.v_before)))
+    return k
+
+
+def jacobian_digits(sc, res) -> int:
+    """Significant digits written for the Jacobian: ``DIGITS - ceil(log10 kappa)``."""
+    return max(1, DIGITS - math.ceil(math.log10(kappa(sc, res))))
+
+
+def _values(res, jacobian: bool) -> list:
+    vals = list(res["phi"])
+    for e in res["events"]:
+        vals += [e.t, e.x, e.v] + ([] if e.v_before is None else [e.v_before])
+    if jacobian and res["jacobian"] is not None:
+        return [res["jacobian"][i][j] for i in range(2) for j in range(2)]
+    return vals
+
+
+def _beyond(va, vb, rtol) -> bool:
+    va, vb = mpmath.mpf(va), mpmath.mpf(vb)
+    return abs(va - vb) > rtol * max(1, abs(vb))
+
+
+def disagreement(a: dict, b: dict, sc=None) -> str | None:
+    """Why the runs ``a`` (dps) and ``b`` (dps + 20) disagree, or ``None``.
+
+    Map and events: within ``golden_self_agreement``; the Jacobian within that times
+    ``kappa`` (the digits it can carry near grazing; only those digits are written).
+    Itineraries are compared in ``compare.canonical`` form (the number of chatter bounces
+    simulated one by one depends on the precision).
+    """
+    if sc is not None:
+        a = {**a, "events": compare.canonical(a["events"], sc)}
+        b = {**b, "events": compare.canonical(b["events"], sc)}
+    ka, kb = [e.kind for e in a["events"]], [e.kind for e in b["events"]]
+    if ka != kb:
+        first = next((i for i, (x, y) in enumerate(zip(ka, kb)) if x != y), min(len(ka), len(kb)))
+        return (f"itineraries differ at event {first}: {' '.join(ka[first:first + 4])} ... ({len(ka)} events) "
+                f"vs {' '.join(kb[first:first + 4])} ... ({len(kb)} events)")
+    if (a["jacobian"] is None) != (b["jacobian"] is None):
+        return f"Jacobian defined in one run only ({a['jacobian_note']} / {b['jacobian_note']})"
+    rtol = tol("golden_self_agreement").rtol
+    k = 1.0 if sc is None else kappa(sc, b)
+    with mpmath.workdps(CHECK_DPS):
+        for jac, scale in ((False, 1.0), (True, k)):
+            for va, vb in zip(_values(a, jac), _values(b, jac)):
+                if _beyond(va, vb, rtol * scale):
+                    return f"value {mpmath.nstr(va, 45)} != {mpmath.nstr(vb, 45)} beyond {rtol * scale:g}"
+    return None
+
+
+def record(sc, res: dict) -> dict:
+    """The JSON form of one result (strings at ``DIGITS`` digits; the Jacobian at its own).
+
+    Events are stored in ``compare.canonical`` form (a chatter run as its first impact and
+    the ``chatter`` event; the number of bounces the reference simulated one by one is an
+    implementation detail and is not stored).
+    """
+    jac = res["jacobian"]
+    nd = jacobian_digits(sc, res)
+    return {
+        "phi": [fmt(res["phi"][0]), fmt(res["phi"][1])],
+        "jacobian": None if jac is None else [[fmt(jac[i][j], nd) for j in range(2)] for i in range(2)],
+        "jacobian_digits": None if jac is None else nd,
+        "jacobian_note": res["jacobian_note"],
+        "events": [[e.kind, fmt(e.t), fmt(e.x), fmt(e.v), fmt(e.v_before)]
+                   for e in compare.canonical(res["events"], sc)],
+    }
+
+
+def scene_file(name: str, n_sample: int = N_SAMPLE, progress=None) -> dict:
+    """The golden record of one scene (raises ``GoldenError`` on a failed self-check)."""
+    sc = scenes.scene(name)
+    cases = []
+    for case in scenes.states_of_interest(name, n_sample):
+        inputs = {"exact": case}
+        if case.exact == "decimal":
+            inputs["float64"] = case.rounded()
+        entry = {"name": case.name, "exact": case.exact, "x": case.x, "v": case.v, "how": case.how,
+                 "constructed_kind": case.kind or None, "t_event": case.t_event or None, "inputs": {}}
+        for label, inp in inputs.items():
+            res, check = compute(sc, inp, GOLDEN_DPS), compute(sc, inp, CHECK_DPS)
+            why = disagreement(res, check, sc)
+            if why is not None:
+                raise GoldenError(f"{name} / {case.name} / {label}: dps {GOLDEN_DPS} vs {CHECK_DPS}: {why}")
+            entry["inputs"][label] = {"x": inp.x, "v": inp.v, **record(sc, res)}
+            if inp.exact == "float64":
+                entry["inputs"][label]["band"] = compare.reference_in_band(sc, inp)
+        cases.append(entry)
+        if progress:
+            progress(f"golden {name}: {case.name}")
+    return {
+        "format": FORMAT,
+        "scene": scene_record(sc),
+        "provenance": {
+            "generator": "python -m cross_check golden",
+            "integrator": "reference (mpmath, event-driven closed-form flights)",
+            "mpmath": mpmath.__version__,
+            "mpmath_backend": mpmath.libmp.BACKEND,
+            "dps": GOLDEN_DPS,
+            "check_dps": CHECK_DPS,
+            "digits": DIGITS,
+            "self_agreement": f"golden_self_agreement: rtol {tol('golden_self_agreement').rtol:g} "
+                              "(cross_check/tolerances.py)",
+            "states": f"seeded sample (seed {scenes.SEED}, n={n_sample}) + cross_check.hardcases constructions",
+            "period": "events and Phi over [0, T], T = 2 pi / omega, from t0 = 0",
+            "band": "float64 inputs: true if the reference's itinerary (dps 50, canonical) changes "
+                    "under a move of compare_band_ulps ulps (the near-grazing band)",
+        },
+        "cases": cases,
+    }
+
+
+def dumps(data: dict) -> str:
+    """Deterministic JSON text: fixed key order, one-space indent, a list of scalars (an
+    event, a Jacobian row, Phi) on one line, trailing newline."""
+    return _dump(data, 0) + "\n"
+
+
+def _flat(value) -> bool:
+    return not isinstance(value, (dict, list)) or (
+        isinstance(value, list) and all(not isinstance(v, (dict, list)) for v in value))
+
+
+def _dump(value, depth: int) -> str:
+    if _flat(value):
+        return json.dumps(value, ensure_ascii=True)
+    pad, inner = " " * depth, " " * (depth + 1)
+    if isinstance(value, dict):
+        items = [f"{inner}{json.dumps(k)}: {_dump(v, depth + 1)}" for k, v in value.items()]
+        return "{\n" + ",\n".join(items) + "\n" + pad + "}"
+    items = [inner + _dump(v, depth + 1) for v in value]
+    return "[\n" + ",\n".join(items) + "\n" + pad + "]"
+
+
+def generate(names=None, out_dir=DEFAULT_DIR, n_sample: int = N_SAMPLE, progress=None) -> list:
+    """Compute every scene first, then write all files (nothing written if a check fails)."""
+    names = list(scenes.SCENES) if names is None else list(names)
+    texts = {}
+    for name in names:
+        texts[scenes.slug(name) + ".json"] = dumps(scene_file(name, n_sample, progress))
+    out = pathlib.Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for fname, text in texts.items():
+        path = out / fname
+        path.write_text(text)
+        paths.append(path)
+    return paths
+
+
+def load(name: str, directory=DEFAULT_DIR) -> dict:
+    """Read the golden file of a scene."""
+    return json.loads((pathlib.Path(directory) / (scenes.slug(name) + ".json")).read_text())
+
+
+def main(argv=None) -> int:
+    """CLI entry: ``golden [--out DIR] [--scenes NAME ...] [--n-sample N]``."""
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="python -m cross_check golden",
+                                     description="write the golden data (reference at 40 digits)")
+    parser.add_argument("--out", default=str(DEFAULT_DIR), help="output directory (default tests/data/golden)")
+    parser.add_argument("--scenes", nargs="+", metavar="NAME", choices=list(scenes.SCENES),
+                        help="only these scenes (default: all)")
+    parser.add_argument("--n-sample", type=int, default=N_SAMPLE, help=f"sample states per scene ({N_SAMPLE})")
+    args = parser.parse_args(argv)
+    if args.n_sample < 0:
+        parser.error("--n-sample must be >= 0")
+    if not compare.available("reference"):
+        print("golden: the reference integrator is not available (reference.stroboscopic_map)", file=sys.stderr)
+        return 2
+    t0 = time.perf_counter()
+    try:
+        paths = generate(args.scenes, args.out, args.n_sample,
+                         progress=lambda msg: print(f"[{time.perf_counter() - t0:6.1f}s] {msg}", file=sys.stderr))
+    except GoldenError as exc:
+        print(f"golden: self-agreement failed, nothing written: {exc}", file=sys.stderr)
+        return 1
+    size = sum(p.stat().st_size for p in paths)
+    print(f"wrote {len(paths)} files ({size / 1024:.0f} KiB) to {args.out} in {time.perf_counter() - t0:.1f}s")
+    return 0

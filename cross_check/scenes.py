@@ -1,0 +1,157 @@
+"""The paper's scenes, named after its figure labels, and the states of interest on each.
+
+Scenes (paper, figure captions; every parameter an exact string or integer):
+
+* ``fig:narrow``                -- F = 1, f = 0, w = 1, l = 0, r = 0.8 (Fig. 1a);
+* ``fig:narrow-with-friction``  -- the same with f = 0.005 (Fig. 2);
+* ``fig:wide:a`` / ``fig:wide:b`` -- R = 4 and R = 20, frictionless (Fig. 1c, 1d);
+* ``fig:many:wide/f=0.1`` ... ``/f=0.6`` -- Fig. 1d's scene with f = 0.1, ..., 0.6 (Fig. 3);
+* ``fig:many:2pi/f=...``        -- F = 1, w = 2 pi, l = -1, r = 1, f in {0.005, ..., 0.3} (Fig. 5);
+* ``fig:resonance/R=...``       -- w = 2 pi, F = w^2, f = 24.65, l = 0, r in {0.89, 0.8932, 0.895}
+  (Fig. 8, the 3:1 resonance);
+* hard scenes (not figures): ``fold/near`` (Fig. 1d's scene with f/F = 2/pi - 1e-6, just below
+  the fold eq. ``fold:bif``), ``fold/at`` (f/F = 2/pi exactly), ``stuck/F=f`` and ``stuck/F<f``
+  (F <= f: a particle that stops stays stopped).
+
+States of interest per scene: a deterministic sample in the gap (``numpy`` PCG64, seed
+``SEED`` + CRC32 of the scene name; float64 values, exact as binary numbers) plus the hard cases
+of ``cross_check.hardcases`` (decimal strings, constructed by closed-form backward flights).
+"""
+from __future__ import annotations
+
+import functools
+import zlib
+from dataclasses import dataclass
+
+import mpmath
+import numpy as np
+
+from reference.scene import Scene
+from cross_check.hardcases import hard_cases
+
+SEED = 20261122
+
+_BASE_NARROW = dict(F=1, f=0, omega=1, l=0, r="0.8")
+_BASE_2PI = dict(F=1, omega="2*pi", l=-1, r=1)
+_RESONANCE = dict(F="(2*pi)**2", f="24.65", omega="2*pi", l=0)
+
+
+def _build() -> dict[str, Scene]:
+    out = {}
+
+    def add(name, **params):
+        out[name] = Scene(name=name, **params)
+
+    add("fig:narrow", **_BASE_NARROW)
+    add("fig:narrow-with-friction", **{**_BASE_NARROW, "f": "0.005"})
+    add("fig:wide:a", F=1, f=0, omega=1, l=0, r=4)
+    add("fig:wide:b", F=1, f=0, omega=1, l=0, r=20)
+    for f in ("0.1", "0.2", "0.3", "0.4", "0.5", "0.6"):
+        add(f"fig:many:wide/f={f}", F=1, f=f, omega=1, l=0, r=20)
+    for f in ("0.005", "0.01", "0.05", "0.1", "0.2", "0.3"):
+        add(f"fig:many:2pi/f={f}", f=f, **_BASE_2PI)
+    for r in ("0.89", "0.8932", "0.895"):
+        add(f"fig:resonance/R={r}", r=r, **_RESONANCE)
+    add("fold/near", F=1, f="2/pi - 0.000001", omega=1, l=0, r=20)
+    add("fold/at", F=1, f="2/pi", omega=1, l=0, r=20)
+    add("stuck/F=f", F=1, f=1, omega=1, l=0, r="0.8")
+    add("stuck/F<f", F=1, f="1.5", omega=1, l=0, r="0.8")
+    return out
+
+
+#: All scenes by name (figure scenes first, in the paper's order).
+SCENES: dict[str, Scene] = _build()
+
+#: The scenes of the paper's figures (the rest are hard parameter sets).
+FIGURE_SCENES = tuple(n for n in SCENES if n.startswith("fig:"))
+
+#: A small representative subset for quick runs (one per figure family, plus friction).
+QUICK_SCENES = ("fig:narrow", "fig:narrow-with-friction", "fig:many:wide/f=0.3",
+                "fig:many:2pi/f=0.1", "fig:resonance/R=0.8932")
+
+
+def scene(name: str) -> Scene:
+    """A scene by name (ValueError lists the known names)."""
+    try:
+        return SCENES[name]
+    except KeyError:
+        raise ValueError(f"scene must be one of {', '.join(SCENES)}; got {name!r}") from None
+
+
+def slug(name: str) -> str:
+    """A file-name-safe form of a scene name (``fig:many:wide/f=0.1`` -> ``fig-many-wide_f=0.1``)."""
+    return name.replace(":", "-").replace("/", "_")
+
+
+@dataclass(frozen=True)
+class Case:
+    """A state of interest at ``t = 0``.
+
+    ``exact`` says what the strings mean: ``"float64"`` -- the float64 number ``float(x)``
+    (shortest round-trip repr), exact in binary; ``"decimal"`` -- the decimal number itself
+    (hard cases; float64 sees it rounded, which is part of what a hard case probes).
+    """
+
+    name: str
+    x: str
+    v: str
+    exact: str
+    how: str
+    kind: str = ""
+    t_event: str = ""
+
+    def mpf(self):
+        """``(x, v)`` as mpf at the current precision (exact for float64 cases)."""
+        if self.exact == "float64":
+            return mpmath.mpf(float(self.x)), mpmath.mpf(float(self.v))
+        return mpmath.mpf(self.x), mpmath.mpf(self.v)
+
+    def float(self):
+        """``(x, v)`` as float64 (correctly rounded)."""
+        return float(self.x), float(self.v)
+
+    def rounded(self) -> "Case":
+        """The float64 rounding of this state, as a ``float64`` case (what fast sees)."""
+        x, v = self.float()
+        return Case(self.name, repr(x), repr(v), "float64", self.how, self.kind, self.t_event)
+
+
+def velocity_scale(sc: Scene) -> float:
+    """``F / w``: the amplitude of the forced velocity (the paper's natural unit)."""
+    return max(sc.float("F") / sc.float("omega"), 1e-300)
+
+
+def sample_states(name: str, n: int, seed: int = SEED) -> list[Case]:
+    """``n`` deterministic states in the open gap, ``|v| <= 2 F / w``.
+
+    ``x = l + u R`` with ``u ~ U(0.01, 0.99)``, ``v ~ U(-2F/w, 2F/w)``, rounded to float64.
+    """
+    if n < 0:
+        raise ValueError(f"n must be >= 0, got {n}")
+    sc = scene(name)
+    rng = np.random.default_rng(seed + zlib.crc32(name.encode()))
+    l, r = sc.float("l"), sc.float("r")
+    u = rng.uniform(0.01, 0.99, n)
+    vmax = 2 * velocity_scale(sc)
+    vs = rng.uniform(-vmax, vmax, n)
+    out = []
+    for i in range(n):
+        x = float(min(max(l + u[i] * (r - l), l), r))
+        out.append(Case(f"sample-{i}", repr(x), repr(float(vs[i])), "float64",
+                        f"PCG64 seed {seed}+crc32(name), x = l + U(0.01,0.99) R, v = U(-2F/w, 2F/w)"))
+    return out
+
+
+@functools.lru_cache(maxsize=None)
+def _hard_states(name: str) -> tuple:
+    return tuple(Case(c.name, c.x, c.v, "decimal", c.how, c.kind, c.t_event) for c in hard_cases(scene(name)))
+
+
+def hard_states(name: str) -> list[Case]:
+    """The constructible hard cases of the scene (see ``cross_check.hardcases``)."""
+    return list(_hard_states(name))
+
+
+def states_of_interest(name: str, n_sample: int = 8, hard: bool = True) -> list[Case]:
+    """Sample states followed by the hard cases."""
+    return sample_states(name, n_sample) + (hard_states(name) if hard else [])

@@ -1,0 +1,114 @@
+"""The front door: ``python -m cross_check``.
+
+--help lists every command with a one-line description; bad arguments give one clear line
+on stderr and exit status 2; claims/figures are dispatched lazily (and reported as not
+available if their module is missing); a quick report runs end to end into a tmp dir.
+"""
+from __future__ import annotations
+
+import pathlib
+import subprocess
+import sys
+import types
+
+import pytest
+
+from cross_check import __main__ as cli
+from cross_check import compare
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+
+
+def run(*args, timeout=300):
+    return subprocess.run([sys.executable, "-m", "cross_check", *args], cwd=ROOT, capture_output=True,
+                          text=True, timeout=timeout)
+
+
+def test_help_lists_each_command_on_one_line():
+    proc = run("--help")
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stdout.splitlines()
+    for name in ("report", "golden", "claims", "figures"):
+        hits = [ln for ln in lines if ln.strip().startswith(name + " ")]
+        assert len(hits) == 1, (name, proc.stdout)
+        assert len(hits[0].split(maxsplit=1)[1]) > 10, hits[0]
+
+
+@pytest.mark.parametrize("args, fragment", [
+    ((), "a command is required"),
+    (("bogus",), "unknown command 'bogus'"),
+    (("report", "--bogus"), "unrecognized arguments: --bogus"),
+    (("golden", "--n-sample", "-1"), "--n-sample must be >= 0"),
+    (("golden", "--scenes", "fig:nope"), "invalid choice: 'fig:nope'"),
+])
+def test_bad_arguments_give_one_line_and_status_2(args, fragment):
+    proc = run(*args)
+    assert proc.returncode == 2, (proc.returncode, proc.stderr)
+    assert len(proc.stderr.strip().splitlines()) == 1, proc.stderr
+    assert fragment in proc.stderr and "error:" in proc.stderr
+    assert proc.stdout == ""
+
+
+def test_missing_subcommand_module_is_reported_not_available(monkeypatch, capsys):
+    monkeypatch.setitem(cli.COMMANDS, "claims", ("cross_check._no_such_module_", "check the claims"))
+    assert cli.main(["claims"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "is not available" in err[0]
+
+
+def test_subcommands_are_dispatched_with_their_arguments(monkeypatch):
+    seen = {}
+    fake = types.ModuleType("cross_check._fake_figures_")
+    fake.main = lambda argv: seen.setdefault("argv", argv) and 0
+    monkeypatch.setitem(sys.modules, fake.__name__, fake)
+    monkeypatch.setitem(cli.COMMANDS, "figures", (fake.__name__, "redraw the figures"))
+    assert cli.main(["figures", "--only", "fig:narrow"]) == 0
+    assert seen["argv"] == ["--only", "fig:narrow"]
+
+
+def test_subcommand_argparse_errors_become_one_line(monkeypatch, capsys):
+    import argparse
+
+    fake = types.ModuleType("cross_check._fake_claims_")
+
+    def main(argv):
+        argparse.ArgumentParser(prog="python -m cross_check claims").parse_args(argv)
+        return 0
+
+    fake.main = main
+    monkeypatch.setitem(sys.modules, fake.__name__, fake)
+    monkeypatch.setitem(cli.COMMANDS, "claims", (fake.__name__, "check the claims"))
+    assert cli.main(["claims", "--nope"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["python -m cross_check claims: error: unrecognized arguments: --nope"]
+
+
+@pytest.mark.skipif(not (compare.available("reference") and compare.available("fast")),
+                    reason="reference and fast integrators needed")
+def test_quick_report_runs_end_to_end(tmp_path):
+    out = tmp_path / "rep"
+    # the claims table has its own tests (and takes ~25 s of CPU even in quick mode): skipped here;
+    # its rendering is checked by test_report_renders_the_claims_table_of_run_claims
+    proc = run("report", "--quick", "--skip-claims", "--out", str(out), timeout=600)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    text = (out / "report.md").read_text()
+    for section in ("## Agreement of fast with reference", "## Hard cases", "## Work-precision",
+                    "## The paper's claims", "## Machine, versions, seeds"):
+        assert section in text, section
+    assert (out / "work_precision.png").stat().st_size > 10_000
+    assert "fig:narrow-with-friction" in text and "grazing" in text
+    assert len([ln for ln in proc.stderr.splitlines() if ln.startswith("[")]) >= 4   # progress lines
+
+
+def test_report_renders_the_claims_table_of_run_claims(monkeypatch):
+    from cross_check import report
+
+    fake = types.ModuleType("cross_check.claims")
+    fake.run_claims = lambda quick: [{"id": "fold", "statement": "f/F = 2/pi |fold|", "verdict": "reproduced",
+                                      "corrected": None, "note": "quick" if quick else "full", "numbers": {}}]
+    monkeypatch.setitem(sys.modules, "cross_check.claims", fake)
+    lines = report.claims_section(True, lambda msg: None)
+    assert lines[0] == "| id | verdict | statement | corrected | note |"
+    assert lines[2] == "| fold | reproduced | f/F = 2/pi /fold/ |  | quick |"
+    fake.run_claims = lambda quick: 1 / 0
+    assert "run_claims failed" in report.claims_section(False, lambda msg: None)[0]
