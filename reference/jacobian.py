@@ -41,8 +41,17 @@ def flight_matrix(model, h):
     return [[one, h], [zero, one]]
 
 
-def impact_matrix(model, A, v_before):
-    """Reflection saltation matrix, with the velocity BEFORE the impact."""
+def impact_matrix(model, A, v_before, t=None):
+    """Reflection saltation matrix, with the velocity BEFORE the impact.
+
+    At a grazing impact (``v- = 0``) the entry ``2 A / v-`` is infinite: ``Phi'`` does not
+    exist there (the paper's footnote on grazing), and a ``ValueError`` says so.
+    """
+    if v_before == 0:
+        raise ValueError(
+            f"jacobian: Phi' does not exist on this orbit: a grazing impact at t = "
+            f"{mpmath.nstr(t, 20) if t is not None else '?'} with zero velocity before impact "
+            f"(the reflection matrix has 1/v-)")
     e, zero = model.e, mpmath.mpf(0)
     s = 1 if v_before > 0 else -1
     lower = ((1 + e) * A + (1 - e) * s * model.f) / v_before
@@ -87,7 +96,7 @@ def product_of_table1(model, log):
         elif mode == "contact" and ev.kind == "release":
             J = nothing
         if ev.kind == "impact":
-            J = _mul(impact_matrix(model, model.force(ev.x, ev.t), ev.v_before), J)
+            J = _mul(impact_matrix(model, model.force(ev.x, ev.t), ev.v_before, ev.t), J)
         elif ev.kind == "turn":
             J = _mul(turn_matrix(model, model.force(ev.x, ev.t)), J)
         mode, start = _MODE_AFTER[ev.kind], (ev.t, ev.x, ev.v)

@@ -77,7 +77,7 @@ def test_reflection_uses_v_before(monkeypatch):
     assert_close(right, D, "ref_fd_jacobian")
     original = jac_module.impact_matrix
     monkeypatch.setattr(jac_module, "impact_matrix",
-                        lambda model, A, v_before: original(model, A, -v_before))
+                        lambda model, A, v_before, t=None: original(model, A, -v_before, t))
     wrong = reference.jacobian(scene, x, v, dps=J_DPS)
     with mpmath.workdps(FD_DPS):
         assert max(abs(wrong[i][j] - D[i][j]) for i in range(2) for j in range(2)) > 0.1
@@ -113,3 +113,14 @@ def test_chatter_gives_the_zero_matrix():
     assert "chatter" in [e.kind for e in log]
     J = reference.jacobian(scene, "0.89", "0.1", dps=30)
     assert all(J[i][j] == 0 for i in range(2) for j in range(2))
+
+
+def test_grazing_impact_has_no_jacobian_and_says_so():
+    """A grazing impact (zero velocity before impact) makes 2A/v- infinite: ValueError.
+
+    Found by the claims' reference Newton on fig:narrow (f = 0), which reached a state whose
+    period has an impact with v- = 0; the matrix itself is what must refuse.
+    """
+    model = type("Model", (), {"e": mpf(1), "f": mpf(0)})()
+    with pytest.raises(ValueError, match="grazing impact at t = 0.25"):
+        jac_module.impact_matrix(model, mpf(1), mpf(0), mpf("0.25"))
