@@ -1,0 +1,144 @@
+"""fast.analysis: Newton for periodic points, the search, the type of a point, the area classes.
+
+Expected values come from the closed forms of reference.paper (the symmetric non-sticking
+solutions and the no-impact attractor), themselves checked in tests/test_paper_formulas.py.
+"""
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from cross_check.tolerances import tol
+from fast import analysis as A
+from reference import paper as P
+from reference.scene import Scene
+
+FP = tol("claim_fixed_point").atol
+MULT = tol("claim_multiplier").atol
+WIDE = Scene(F=1, f="0.3", omega=1, l=0, r=20)
+TWO_PI = Scene(F=1, f="0.2", omega="2*pi", l=-1, r=1)
+
+
+def _closed(scene, branch, m=1):
+    sol = P.symmetric_solution(scene, branch, m=m)
+    return [float(c) for c in sol.state0()], float(sol.trace())
+
+
+@pytest.mark.parametrize("J, kind, stability", [
+    ([[np.cos(1.0), -np.sin(1.0)], [np.sin(1.0), np.cos(1.0)]], "centre", "neutral"),
+    ([[2.0, 0.0], [0.0, 0.5]], "saddle", "unstable"),
+    ([[-2.0, 0.0], [0.0, -0.5]], "flip saddle", "unstable"),
+    ([[1.0, 1.0], [0.0, 1.0]], "parabolic", "neutral"),
+    ([[0.5, -0.5], [0.5, 0.5]], "focus", "stable"),
+    ([[0.5, 0.0], [0.0, 0.2]], "node", "stable"),
+    ([[3.0, 0.0], [0.0, 0.2]], "saddle", "unstable"),
+    ([[1.0, 4.3], [0.0, 0.24]], "non-isolated", "neutral"),
+    ([[1.0, 1.9], [0.0, 0.0]], "non-isolated", "neutral"),
+])
+def test_classify(J, kind, stability):
+    got = A.classify(J)
+    assert got[:2] == (kind, stability)
+    assert abs(got[3] - np.trace(J)) < 1e-15 and abs(got[4] - np.linalg.det(J)) < 1e-15
+
+
+def test_classify_rejects_bad_input():
+    with pytest.raises(ValueError, match="finite 2x2"):
+        A.classify([[np.nan, 0], [0, 1]])
+    with pytest.raises(ValueError, match="finite 2x2"):
+        A.classify([1, 2, 3])
+
+
+def test_newton_converges_to_symmetric_solutions():
+    for branch in (1, 2):
+        (x0, v0), trace = _closed(WIDE, branch)
+        res = A.newton(WIDE, [x0 + 0.05, x0 - 0.03], [v0 - 0.04, v0 + 0.02])
+        assert res.converged.all()
+        assert np.max(abs(res.x - x0)) < FP and np.max(abs(res.v - v0)) < FP
+        _, _, J = A.map_and_jacobian(WIDE, res.x[:1], res.v[:1])
+        assert abs(np.trace(J[0]) - trace) < MULT
+
+
+@settings(max_examples=10)
+@given(f=st.sampled_from(["0.05", "0.2", "0.4", "0.6"]), R=st.sampled_from(["3", "8", "20"]),
+       branch=st.sampled_from([1, 2]))
+def test_newton_on_symmetric_family(f, R, branch):
+    # f = 0 excluded: then the impacts fall exactly on t = 0 (psi_1 = -pi, psi_2 = 0), the fixed point
+    # sits on a wall where Phi' jumps (impact at t = 0+ or at t = T-), and Newton need not converge
+    scene = Scene(F=1, f=f, omega=1, l=0, r=R)
+    sol = P.symmetric_solution(scene, branch)
+    if sol.min_flight_velocity()[0] <= 0:
+        return      # not a genuine solution for these parameters (see test_paper_formulas)
+    (x0, v0), trace = _closed(scene, branch)
+    res = A.newton(scene, [x0 + 1e-3], [v0 - 1e-3])
+    assert res.converged[0] and abs(res.x[0] - x0) < FP and abs(res.v[0] - v0) < FP
+
+
+def test_search_finds_the_centre_and_the_saddle():
+    pts = A.find_periodic_points(WIDE, v_range=(5.0, 7.5), grid=(8, 6))
+    kinds = {p.kind: p for p in pts if abs(p.det - 1) < 1e-9}
+    for branch, kind in ((1, "centre"), (2, "saddle")):
+        (x0, v0), trace = _closed(WIDE, branch)
+        p = kinds[kind]
+        assert abs(p.x - x0) < FP and abs(p.v - v0) < FP and abs(p.trace - trace) < MULT
+    assert len([p for p in pts if p.kind in ("centre", "saddle") and abs(p.det - 1) < 1e-9]) == 2
+
+
+def test_search_period3_centre_and_orbit():
+    pts = A.find_periodic_points(TWO_PI, period=3, v_range=(1.0, 2.0), grid=(6, 6))
+    (x0, v0), trace = _closed(TWO_PI, 1, m=3)
+    centre = [p for p in pts if p.kind == "centre"]
+    assert len(centre) == 1
+    c = centre[0]
+    assert abs(c.x - x0) < FP and abs(c.v - v0) < FP and abs(c.trace - trace) < MULT
+    assert len(c.orbit) == 3 and min(c.orbit) == (c.x, c.v)
+    assert min(np.hypot(a[0] - b[0], a[1] - b[1]) for a in c.orbit for b in c.orbit if a != b) > 0.1
+
+
+def test_segment_of_no_impact_fixed_points_is_non_isolated():
+    closed = P.no_impact_attractor(WIDE)
+    x = np.array([6.0, 10.0, 13.0])
+    v = np.full(3, float(closed["v0"]))
+    res = A.newton(WIDE, x, v + 1e-4)
+    assert res.converged.all() and np.max(abs(res.v - float(closed["v0"]))) < FP
+    _, _, J = A.map_and_jacobian(WIDE, res.x, res.v)
+    for Ji in J:
+        kind, stab, lam, _, det = A.classify(Ji)
+        assert kind == "non-isolated"
+        assert abs(det - float(closed["multiplier"])) < MULT
+
+
+def test_area_classes():
+    (x1, v1), _ = _closed(WIDE, 1)
+    turns = float(P.no_impact_attractor(WIDE)["v0"])
+    wide6 = WIDE.replace(f="0.6")
+    sticks = float(P.no_impact_attractor(wide6)["v0"])
+    labels, det = A.area_classes(WIDE, [x1, 8.0], [v1, turns])
+    assert list(labels) == ["pres", "dissip"]
+    assert abs(det[0] - 1) < 1e-12 and abs(det[1] - float(P.no_impact_attractor(WIDE)["multiplier"])) < 1e-8
+    labels, det = A.area_classes(wide6, [9.0], [sticks])
+    assert list(labels) == ["dissip"] and det[0] == 0
+
+
+def test_dissipative_invariance_counts():
+    xs, vs = np.meshgrid(np.linspace(1, 19, 7), np.linspace(-3, 8, 7))
+    out = A.dissipative_invariance(WIDE.replace(f="0.6"), xs.ravel(), vs.ravel())
+    assert out["n"] == 49 and 0 < out["n_dissip"] < 49
+    assert out["n_violations"] == len(out["violations"]) == 0
+    assert out["n_det_mismatch"] == 0
+
+
+def test_canonical_wall_state():
+    assert A._canonical(0.0, 0.8, 0.8, 1.2, 1e-9) == (0.8, -1.2)
+    assert A._canonical(0.0, 0.8, 0.0, -0.5, 1e-9) == (0.0, 0.5)
+    assert A._canonical(0.0, 0.8, 0.4, 0.5, 1e-9) == (0.4, 0.5)
+
+
+def test_bad_input():
+    with pytest.raises(ValueError, match="period"):
+        A.newton(WIDE, [1.0], [1.0], period=0)
+    with pytest.raises(ValueError, match="max_iter"):
+        A.newton(WIDE, [1.0], [1.0], max_iter=0)
+    with pytest.raises(ValueError, match="grid"):
+        A.find_periodic_points(WIDE, grid=(0, 3))
+    with pytest.raises(ValueError, match="x_range"):
+        A.find_periodic_points(WIDE, x_range=(-1.0, 3.0))
