@@ -14,7 +14,6 @@ import types
 import pytest
 
 from cross_check import __main__ as cli
-from cross_check import compare
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -83,8 +82,6 @@ def test_subcommand_argparse_errors_become_one_line(monkeypatch, capsys):
     assert err == ["python -m cross_check claims: error: unrecognized arguments: --nope"]
 
 
-@pytest.mark.skipif(not (compare.available("reference") and compare.available("fast")),
-                    reason="reference and fast integrators needed")
 def test_quick_report_runs_end_to_end(tmp_path):
     out = tmp_path / "rep"
     # the claims table has its own tests (and takes ~25 s of CPU even in quick mode): skipped here;

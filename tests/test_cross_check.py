@@ -20,9 +20,6 @@ from cross_check.compare import Event
 from cross_check.tolerances import tol
 from tests.strategies import named_scene_states
 
-needs_ref = pytest.mark.skipif(not compare.available("reference"), reason="reference integrator not importable")
-needs_both = pytest.mark.skipif(not (compare.available("reference") and compare.available("fast")),
-                                reason="reference and fast integrators needed")
 
 
 # --- scenes ---------------------------------------------------------------------------
@@ -88,7 +85,6 @@ HARD = [("fig:narrow-with-friction", n) for n in ("grazing", "crossing_pair", "s
         ("fold/near", "impact_at_T"), ("fig:narrow", "crossing_pair")]
 
 
-@needs_ref
 @pytest.mark.parametrize("name, case_name", HARD)
 def test_reference_finds_the_constructed_event(name, case_name):
     sc, c = scenes.scene(name), _hard(name, case_name)
@@ -163,7 +159,6 @@ def test_compare_case_stops_scoring_at_the_first_itinerary_difference():
 
 
 # --- fast vs reference ----------------------------------------------------------------
-@needs_both
 @pytest.mark.parametrize("name", scenes.FIGURE_SCENES)
 def test_fast_agrees_with_reference_on_the_papers_scenes(name):
     sc = scenes.scene(name)
@@ -188,7 +183,6 @@ def test_fast_agrees_with_reference_on_the_papers_scenes(name):
     assert np.median(errs) <= t_med.rtol, np.median(errs)
 
 
-@needs_both
 @settings(max_examples=15)
 @given(named_scene_states())
 def test_fast_agrees_with_reference_on_random_states(drawn):
@@ -206,7 +200,6 @@ def test_fast_agrees_with_reference_on_random_states(drawn):
 
 
 # --- scipy baseline -------------------------------------------------------------------
-@needs_ref
 @pytest.mark.parametrize("name", ["fig:narrow-with-friction", "fig:many:wide/f=0.3", "fig:resonance/R=0.8932"])
 def test_baseline_converges_to_the_reference_as_rtol_shrinks(name):
     sc = scenes.scene(name)
@@ -240,7 +233,6 @@ def test_baseline_rejects_bad_arguments():
         baseline.stroboscopic(sc, 0.1, 0.0, 0)
 
 
-@needs_both
 def test_subnormal_velocity_is_an_ordinary_state():
     """v0 = 2e-257 is v0 = 0 to every float64 digit: both integrators must give the v0 = 0 map.
 
