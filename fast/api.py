@@ -37,14 +37,10 @@ def _validate(P, x, v):
 
 
 def _params(scene):
-    """The closed-form float64 parameters (base model and restitution e < 1); scenes
-    with position forcing get ``fast.ode``'s (``Params.from_scene`` routes them), and so
-    do scenes with damping c > 0, which has no closed-form float64 flight here yet
-    (numerical flights of ``fast.ode``; never silently ignored)."""
-    try:
-        return Params.from_scene(scene)
-    except NotImplementedError:
-        return ode.OdeParams.from_scene(scene)
+    """The float64 parameters: closed-form flights (base model, restitution e < 1,
+    damping c > 0); scenes with position forcing get ``fast.ode``'s (``Params.from_scene``
+    routes them: the only path to a numerical ODE solver)."""
+    return Params.from_scene(scene)
 
 
 def _run_all(P, x, v, t_end, jac=False, log=None):

@@ -5,6 +5,7 @@ paper's Table 1 matrices (flight ``[[1, h], [0, 1]]`` first, then the event's), 
 the event when asked, and either starts a new flight segment or finishes the state
 (written to ``out``: rows x, v, zero-velocity flag, J11, J12, J21, J22).
 
+Flight matrix with damping ``c > 0``: ``[[1, (1 - exp(-c h))/c], [0, exp(-c h)]]``.
 Event matrices (SEMANTICS.md): impact ``[[-e, 0], [((1 + e) A + (1 - e) s f) / v-, -e]]``
 with the velocity ``v-`` before impact and ``s`` its sign (``e = 1``: ``2 A / v-``); turn ``diag(1, (|A| - f)/(|A| + f))``; a sticking interval
 ``[[1, 0], [0, 0]]``; wall contact (contact or chatter, until release) the zero matrix.
@@ -15,6 +16,7 @@ import numpy as np
 
 from . import kernel as k
 from .modes import chatter_state, chatter_tail, stick_exit, wall_exit
+from .flight import damped_factors
 from .params import EPS
 
 KINDS = ("impact", "turn", "stick", "slip", "contact", "chatter", "release")
@@ -38,9 +40,7 @@ def process(P, sub, dx, v, cs, sn, t_end, out, log, jac, exact_trig=True):
     s = sub[k.S].copy()
     A = P.F * cs
     if jac:
-        h = t - sub[k.T0]
-        sub[k.J11] += h * sub[k.J21]
-        sub[k.J12] += h * sub[k.J22]
+        _flight_matrix(P, sub, t - sub[k.T0])
     x = np.clip(sub[k.X0] + dx, P.l, P.r)
     sub[k.NEV] += 1
     sub[k.NIT] = 0
@@ -79,7 +79,7 @@ def process(P, sub, dx, v, cs, sn, t_end, out, log, jac, exact_trig=True):
             held = hit & (s * A >= -P.f)
             graze = graze | held
         elif P.chatter:
-            _chatter(P, sub, hit, t, s, A, e * np.abs(v), t_end, out, log, jac, fin, new)
+            _chatter(P, sub, hit, t, s, A, sn, e * np.abs(v), t_end, out, log, jac, fin, new)
     # ---- velocity zeros -----------------------------------------------------------
     vz = kind == k.VZERO
     if vz.any():
@@ -136,6 +136,17 @@ def process(P, sub, dx, v, cs, sn, t_end, out, log, jac, exact_trig=True):
     return fin
 
 
+def _flight_matrix(P, st, h):
+    """``J <- [[1, a1], [0, E]] J`` (``a1 = h``, ``E = 1`` undamped; damped ``a1 = (1 -
+    exp(-c h))/c``, ``E = exp(-c h)``)."""
+    a1, E = damped_factors(P, h)
+    st[k.J11] += a1 * st[k.J21]
+    st[k.J12] += a1 * st[k.J22]
+    if P.damp > 0:
+        st[k.J21] *= E
+        st[k.J22] *= E
+
+
 def _finish(P, sub, sel, x, v, out, jac):
     idx = sub[k.IDX][sel].astype(np.int64)
     out[0, idx] = np.broadcast_to(x, sel.shape)[sel]
@@ -148,21 +159,21 @@ def _finish(P, sub, sel, x, v, out, jac):
 def finish_flight(P, st, dx, v, out, jac):
     """States reaching ``t_end`` in flight: final flight matrix, state to ``out``."""
     if jac:
-        h = st[k.TT] - st[k.T0]
-        st[k.J11] += h * st[k.J21]
-        st[k.J12] += h * st[k.J22]
+        _flight_matrix(P, st, st[k.TT] - st[k.T0])
     x = np.clip(st[k.X0] + dx, P.l, P.r)
     _finish(P, st, np.ones(x.shape, bool), x, v, out, jac)
 
 
-def _chatter(P, sub, hit, t, s, A, u, t_end, out, log, jac, fin, new):
-    """After an impact: sum the chatter tail when the frozen-force series is exact."""
+def _chatter(P, sub, hit, t, s, A, sn, u, t_end, out, log, jac, fin, new):
+    """After an impact: sum the chatter tail (second order, fast.modes.chatter_tail) when
+    its estimated error is below a few ulp of T or the bounces are at float resolution."""
     p = s * A
     cand = hit & (p > P.f)
     if not cand.any():
         return
     pc = np.where(cand, p, 2.0 * P.f + 1.0)
-    delta, rho, err, tau, one_m = chatter_tail(P, pc, np.where(cand, u, 0.0))
+    p1 = -s * (P.F * P.w) * sn          # side * A'(t)
+    delta, rho, err, tau, one_m = chatter_tail(P, pc, np.where(cand, u, 0.0), p1)
     # sum the tail when its neglected terms are below a few ulp of T, or when the bounces
     # are below float64 resolution anyway (height u^2 / (2 (p + f)) within 64 ulp of the wall)
     height = u * u / (2.0 * (pc + P.f))

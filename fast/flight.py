@@ -16,6 +16,22 @@ its Taylor series for ``theta <= 0.5`` (7 terms: the first omitted one is below 
 relative) and as ``theta - 2 S C`` above (relative error <= 6 eps / theta^2 <= 24 eps
 there, absolute (F/w^2) eps theta, below the rounding of the other terms of x).
 
+Damped flight (``c > 0``: ``x'' + c x' = F cos wt - s f``), with ``y = c h``,
+``E = exp(-y)``, ``a1 = (1 - E)/c = -expm1(-y)/c`` and ``phi2(y) = (E - 1 + y)/y^2``::
+
+    v = v_p(t) + (v0 - v_p(t0)) E,   v_p = Pd cos wt + Qd sin wt - s f / c
+      = v0 E + [u(t) - u(t0)] + u(t0) (1 - E) - s f a1,        u = Pd cos wt + Qd sin wt
+    x - x0 = v0 a1 + [Pd (-2 sn0 S^2 - cs0 D) + Qd (2 cs0 S^2 - sn0 D)] / w
+             + (c u(t0) - s f) h^2 phi2(y)
+
+(``Pd = F c/(c^2+w^2)``, ``Qd = F w/(c^2+w^2)``; ``u(t) - u(t0) = 2 S (Qd P - Pd Q)``;
+the bracket is ``int_0^h u(t0 + r) - u(t0) dr``, and ``int_0^h (1 - exp(-c r)) dr = c h^2
+phi2``).  Every term is ``O(h)`` (v) or ``O(h^2)`` (x) on its own: no cancellation of
+large terms as ``h -> 0`` or ``c -> 0`` (the friction and ``u(t0)`` terms are not divided
+by ``c``); ``c -> 0`` gives the undamped forms.  ``phi2`` by its series ``sum_k (-y)^k /
+(k+2)!`` (15 terms, first omitted one below 2^-60 relative) for ``y <= 0.5`` and
+directly above (``E - 1 + y >= 0.1 y^2``: relative error a few eps).
+
 This module is the flight interface: a numerical flight (``fast.ode``, position
 forcing) would provide the same ``evaluate`` signature.
 """
@@ -28,6 +44,29 @@ import numpy as np
 #: D(theta) = theta^3 * sum_k _D_COEF[k] * theta^(2k) for theta <= _D_SWITCH
 _D_SWITCH = 0.5
 _D_COEF = tuple((-1) ** k / math.factorial(2 * k + 3) for k in range(7))
+#: phi2(y) = sum_k _PHI2_COEF[k] y^k for y <= _PHI2_SWITCH
+_PHI2_SWITCH = 0.5
+_PHI2_COEF = tuple((-1) ** k / math.factorial(k + 2) for k in range(15))
+
+
+def phi2(y: np.ndarray) -> np.ndarray:
+    """``(exp(-y) - 1 + y) / y^2`` for ``y >= 0`` (``1/2`` at 0), cancellation-free."""
+    acc = np.full_like(y, _PHI2_COEF[-1])
+    for a in _PHI2_COEF[-2::-1]:
+        acc *= y
+        acc += a
+    with np.errstate(invalid="ignore", divide="ignore"):
+        direct = (np.expm1(-y) + y) / (y * y)
+    return np.where(y <= _PHI2_SWITCH, acc, direct)
+
+
+def damped_factors(P, h):
+    """``(a1, E) = ((1 - exp(-c h))/c, exp(-c h))``: the damped flight matrix
+    ``[[1, a1], [0, E]]`` (``(h, 1)`` without damping)."""
+    if P.damp == 0:
+        return h, 1.0
+    y = P.damp * h
+    return -np.expm1(-y) / P.damp, np.exp(-y)
 
 
 def theta_minus_sin(theta: np.ndarray, S: np.ndarray, C: np.ndarray) -> np.ndarray:
@@ -51,6 +90,8 @@ def evaluate(P, h, x0, v0, s, sn0, cs0):
     ``A = F cos wt`` and its rate ``A' = -F w sin wt``.
     """
     w, F, f = P.w, P.F, P.f
+    if P.damp > 0:
+        return _evaluate_damped(P, h, x0, v0, s, sn0, cs0)
     half = (0.5 * w) * h
     S = np.sin(half)
     C = np.cos(half)
@@ -67,4 +108,27 @@ def evaluate(P, h, x0, v0, s, sn0, cs0):
         sf = s * f
         v -= sf * h
         dx -= (0.5 * sf) * (h * h)
+    return dx, v, cs, sn
+
+
+def _evaluate_damped(P, h, x0, v0, s, sn0, cs0):
+    """``evaluate`` for ``c > 0`` (module docstring, damped flight)."""
+    w, f, c, Pd, Qd = P.w, P.f, P.damp, P.Pd, P.Qd
+    half = (0.5 * w) * h
+    S = np.sin(half)
+    C = np.cos(half)
+    Pc = cs0 * C - sn0 * S
+    Qs = sn0 * C + cs0 * S
+    twoS = S + S
+    sn = sn0 + twoS * Pc
+    cs = cs0 - twoS * Qs
+    D = theta_minus_sin(half + half, S, C)
+    y = c * h
+    em = -np.expm1(-y)                  # 1 - E
+    u0 = Pd * cs0 + Qd * sn0
+    sf = s * f
+    v = v0 * np.exp(-y) + twoS * (Qd * Pc - Pd * Qs) + u0 * em - sf * (em / c)
+    S2 = twoS * S
+    dx = (v0 * (em / c) + (Pd * (-sn0 * S2 - cs0 * D) + Qd * (cs0 * S2 - sn0 * D)) / w
+          + (c * u0 - sf) * ((h * h) * phi2(y)))
     return dx, v, cs, sn

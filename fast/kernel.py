@@ -33,7 +33,7 @@ import numpy as np
 
 from . import events_proc as ep
 from .flight import evaluate
-from .params import EPS
+from .params import EPS, damped_bounds
 from .roots import analyze
 
 MAX_SEGMENT_ROUNDS = 1000
@@ -129,17 +129,22 @@ def _check_bounds(P, st, rounds, offset=0):
             f">{MAX_EVENTS} events) for {int(bad.sum())} state(s): {desc}")
 
 
-def _values(P, st, dx, v, cs, sn):
-    """Both event functions and their first two derivatives at the trial times."""
+def _values(P, st, dx, v, cs, sn, M1):
+    """Both event functions and their first two derivatives at the trial times
+    (with damping ``s x'' = s A - f - c s v`` and ``s x''' = s A' - c s x''``)."""
     s = st[S]
-    a = s * (P.F * cs) - P.f                      # s x'' = s A - f
+    a = s * (P.F * cs) - P.f                      # s x'' = s A - f (- c s v)
     h = st[TT] - st[T0]
     av0 = np.abs(st[V0])
     # noise floors: 8 ulp of the largest term of x(t) - x0 (resp. v), capped by the scene's
-    n1 = np.minimum((8 * EPS) * (st[D0] + av0 * h + (0.5 * (P.F + P.f)) * (h * h)), P.noise1)
-    n2 = np.minimum((8 * EPS) * (av0 + (P.F + P.f) * h), P.noise2)
+    n1 = np.minimum((8 * EPS) * (st[D0] + av0 * h + (0.5 * M1) * (h * h)), P.noise1)
+    n2 = np.minimum((8 * EPS) * (av0 + M1 * h), P.noise2)
+    a3 = -s * (P.F * P.w) * sn                    # s x''' = s A' (- c s x'')
+    if P.damp > 0:
+        a = a - P.damp * (s * v)
+        a3 = a3 - P.damp * a
     w1 = (st[D0] - s * dx, -s * v, -a, n1)                  # g1 = s (W_s - x)
-    w2 = (s * v, a, -s * (P.F * P.w) * sn, n2)              # g2 = s v
+    w2 = (s * v, a, a3, n2)                                 # g2 = s v
     return w1, w2
 
 
@@ -155,8 +160,13 @@ def _plan(P, st, dx, v, cs, sn, t_end, tol):
     """
     b = st[TT]
     H_cap = t_end - b
-    w1, w2 = _values(P, st, dx, v, cs, sn)
-    safe1, est1, acc1, back1 = analyze(w1[0], w1[1], w1[2], P.M1, P.M1_3, H_cap, tol, w1[3], P.d_acc)
+    if P.damp > 0:                  # per-segment bounds (fast.params.damped_bounds)
+        M1, M2, M2_3, d_acc = damped_bounds(P, np.abs(st[V0]))
+        M1_3 = M2
+    else:
+        M1, M1_3, M2, M2_3, d_acc = P.M1, P.M1_3, P.M2, P.M2_3, P.d_acc
+    w1, w2 = _values(P, st, dx, v, cs, sn, M1)
+    safe1, est1, acc1, back1 = analyze(w1[0], w1[1], w1[2], M1, M1_3, H_cap, tol, w1[3], d_acc)
     g2 = w2[0]
     fresh = (st[FRESH] != 0) & (g2 <= 0)
     if P.F == 0 and P.f == 0:                    # v is constant: no velocity event at all
@@ -165,7 +175,7 @@ def _plan(P, st, dx, v, cs, sn, t_end, tol):
         pos2 = np.ones(b.shape, bool)
     else:
         d2 = np.where(fresh, np.maximum(w2[1], 0.0), w2[1])
-        safe2, est2, acc2, back2 = analyze(g2, d2, w2[2], P.M2, P.M2_3, H_cap, tol, w2[3], P.d_acc, fresh)
+        safe2, est2, acc2, back2 = analyze(g2, d2, w2[2], M2, M2_3, H_cap, tol, w2[3], d_acc, fresh)
         pos2 = (g2 > 0) | fresh
     pos1 = w1[0] > 0
     lo1, lo2 = b - np.abs(back1), b - np.abs(back2)
@@ -201,11 +211,16 @@ def _plan(P, st, dx, v, cs, sn, t_end, tol):
 
 def _extrapolate(P, st, dx, v, cs, sn, d):
     """State at ``trial + d`` (``|d| <= d_acc``) by the Taylor series of the flight:
-    x'' = A - s f, x''' = A', v''' = A'' (the omitted terms are below eps)."""
+    x'' = A - s f, x''' = A', v''' = A'' (the omitted terms are below eps); with damping
+    x'' = A - s f - c v, x''' = A' - c x'', v''' = A'' - c x'''."""
     A = P.F * cs
     Ap = -(P.F * P.w) * sn
     App = -(P.F * P.w * P.w) * cs
     acc = A - st[S] * P.f
+    if P.damp > 0:
+        acc = acc - P.damp * v
+        Ap = Ap - P.damp * acc
+        App = App - P.damp * Ap
     dd = d * d
     dx_e = dx + v * d + acc * (0.5 * dd) + Ap * (dd * d / 6.0)
     v_e = v + acc * d + Ap * (0.5 * dd) + App * (dd * d / 6.0)

@@ -171,10 +171,8 @@ def test_fast_restitution_reaches_chatter_tail():
     assert not reached_module(paths, "fast.ode")
 
 
-@pytest.mark.xfail(strict=True, reason="fast has no closed-form float64 damped flight yet: "
-                   "scenes with damping route to fast.ode's numerical flights (fast/api.py "
-                   "_params); strict, so it flags when the closed form lands")
 def test_fast_damping_is_closed_form_without_an_ode_solver():
+    """Damping keeps flights closed-form: no numerical ODE solver on a damped scene's path."""
     paths = fast_paths("damped")
     assert not reached_module(paths, "fast.ode")
 

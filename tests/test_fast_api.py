@@ -64,14 +64,16 @@ def test_bad_periods():
         fast.stroboscopic_map(NARROW, 0.4, 0.0, periods=1.5)
 
 
-def test_closed_form_params_refuse_damping():
-    """Damping has no closed-form float64 flight here: named, never ignored (the map
-    itself goes to fast.ode's numerical flights; event logs are not available there)."""
-    scene = NARROW.replace(damping="0.1")
-    with pytest.raises(NotImplementedError, match="damping"):
-        Params.from_scene(scene)
+def test_only_position_forcing_routes_to_ode():
+    """Damping has closed-form float64 flights (fast.flight); only position-dependent
+    forcing goes to fast.ode's numerical flights (whose event logs are not available)."""
+    from fast.ode import OdeParams
+
+    assert type(Params.from_scene(NARROW.replace(damping="0.1"))) is Params
+    xpot = NARROW.replace(wavenumber="pi/2")
+    assert isinstance(Params.from_scene(xpot), OdeParams)
     with pytest.raises(NotImplementedError, match="event logs"):
-        fast.events(scene, 0.4, 0.1)
+        fast.events(xpot, 0.4, 0.1)
 
 
 def test_restitution_is_closed_form():
