@@ -117,8 +117,9 @@ def process(P, sub, dx, v, cs, sn, t_end, out, log, jac, exact_trig=True):
         ph = P.w * new["t"][need]
         new["sn"][need] = np.sin(ph)
         new["cs"][need] = np.cos(ph)
+    some_fin = fin.any()
     for row, key in ((k.T0, "t"), (k.X0, "x"), (k.V0, "v"), (k.S, "s"), (k.SN0, "sn"), (k.CS0, "cs")):
-        sub[row] = np.where(go, new[key], sub[row])
+        sub[row] = np.where(go, new[key], sub[row]) if some_fin else new[key]
     sub[k.TT] = sub[k.T0]
     # distance to the wall ahead; where x is continuous through the event (turn, stick,
     # slip) it is formed from the old start, (W - x0) - s dx, not from the rounded x:

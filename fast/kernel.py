@@ -78,9 +78,7 @@ def run(P, x, v, t_end, *, jac=False, log=None, offset=0):
                 keep[pi[fin]] = False
                 st, dx, vv, cs, sn = st[:, keep], dx[keep], vv[keep], cs[keep], sn[keep]
         if st.shape[1]:
-            fin = _advance(P, st, dx, vv, cs, sn, t_end, tol, out, jac, log)
-            if fin.any():
-                st = st[:, ~fin]
+            st = _advance(P, st, dx, vv, cs, sn, t_end, tol, out, jac, log)
     bad = ~(np.isfinite(out[0]) & np.isfinite(out[1]))
     if bad.any():
         idx = np.flatnonzero(bad)[:5]
@@ -200,10 +198,11 @@ def _plan(P, st, dx, v, cs, sn, t_end, tol):
     retreat = np.minimum(np.minimum(st[C1], st[C2]), t_end)
     go = (code == NONE) & ~fin
     st[TT] = np.where(go, np.where(cert, pred, retreat), b)
-    st[SPEC] = np.where(go & cert, pred > cmin, 0.0)
+    gc = go & cert
+    st[SPEC] = np.where(gc, pred > cmin, 0.0)
     st[NFAIL] += go & ~cert
-    st[C1] = np.where(go & cert, c1, st[C1])
-    st[C2] = np.where(go & cert, c2, st[C2])
+    st[C1] = np.where(gc, c1, st[C1])
+    st[C2] = np.where(gc, c2, st[C2])
     st[NIT] += 1
     st[FRESH] = np.where(go, 0.0, st[FRESH])
     return code, est, fin
@@ -230,31 +229,38 @@ def _extrapolate(P, st, dx, v, cs, sn, d):
 def _advance(P, st, dx, v, cs, sn, t_end, tol, out, jac, log):
     """Plan every running flight; process the accepted events at once (Taylor
     extrapolation over the tiny offset, exact trig at the event time) and plan the new
-    segments from their start values.  Returns the mask of finished states."""
+    segments from their start values.  Returns the table of the states still running:
+    the ones without an event, then the ones with one (a state's numbers never depend
+    on its column, and the event log is ordered per state by ``IDX``).  Rebuilding the
+    table costs two gathers and a contiguous copy, against a scatter of every row back
+    into place plus a compaction (measured 3-4 times dearer)."""
     code, est, fin = _plan(P, st, dx, v, cs, sn, t_end, tol)
     if fin.any():
         ep.finish_flight(P, st[:, fin], dx[fin], v[fin], out, jac)
-    ei = np.flatnonzero(code)
-    if ei.size:
-        sub = st[:, ei]
-        d = est[ei]
-        dx_e, v_e = _extrapolate(P, sub, dx[ei], v[ei], cs[ei], sn[ei], d)
-        sub[TT] = sub[TT] + d
-        ph = P.w * sub[TT]
-        cs_e, sn_e = np.cos(ph), np.sin(ph)
-        sub[PEND] = code[ei]
-        fin_e = ep.process(P, sub, dx_e, v_e, cs_e, sn_e, t_end, out, log, jac)
-        # plan the new segments from their start values (finished rows are dropped)
-        zero = np.zeros(ei.size)
-        with np.errstate(all="ignore"):         # finished rows hold stale values
-            code2, est2, fin2 = _plan(P, sub, zero, sub[V0], sub[CS0], sub[SN0], t_end, tol)
-        fin2 &= ~fin_e
-        if fin2.any():
-            ep.finish_flight(P, sub[:, fin2], zero[fin2], sub[V0][fin2], out, jac)
-            fin_e |= fin2
-        # an event at a segment start (rare): evaluated exactly next round
-        sub[TT] = np.where(code2 != NONE, sub[TT] + est2, sub[TT])
-        sub[PEND] = code2
-        st[:, ei] = sub
-        fin[ei[fin_e]] = True
-    return fin
+    ev = code != NONE
+    ei = np.flatnonzero(ev)
+    if not ei.size:
+        return st.compress(~fin, axis=1) if fin.any() else st
+    sub = st.take(ei, axis=1)
+    d = est[ei]
+    dx_e, v_e = _extrapolate(P, sub, dx[ei], v[ei], cs[ei], sn[ei], d)
+    sub[TT] = sub[TT] + d
+    ph = P.w * sub[TT]
+    cs_e, sn_e = np.cos(ph), np.sin(ph)
+    sub[PEND] = code[ei]
+    fin_e = ep.process(P, sub, dx_e, v_e, cs_e, sn_e, t_end, out, log, jac)
+    # plan the new segments from their start values (finished rows are dropped)
+    zero = np.zeros(ei.size)
+    with np.errstate(all="ignore"):         # finished rows hold stale values
+        code2, est2, fin2 = _plan(P, sub, zero, sub[V0], sub[CS0], sub[SN0], t_end, tol)
+    fin2 &= ~fin_e
+    if fin2.any():
+        ep.finish_flight(P, sub[:, fin2], zero[fin2], sub[V0][fin2], out, jac)
+        fin_e |= fin2
+    # an event at a segment start (rare): evaluated exactly next round
+    sub[TT] = np.where(code2 != NONE, sub[TT] + est2, sub[TT])
+    sub[PEND] = code2
+    rest = st.compress(~(ev | fin), axis=1)
+    if fin_e.any():
+        sub = sub.compress(~fin_e, axis=1)
+    return np.concatenate((rest, sub), axis=1)
