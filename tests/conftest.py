@@ -1,9 +1,9 @@
 """Shared pytest configuration: hypothesis profiles and common fixtures.
 
-Hypothesis profiles (pick with ``HYPOTHESIS_PROFILE=dev|ci|thorough``; CI sets ``CI=true``
-which selects ``ci``):
+Hypothesis profiles (pick with ``HYPOTHESIS_PROFILE=dev|ci|thorough``; the default is ``ci``
+everywhere, so a plain ``pytest`` draws the same examples on every run and machine):
 
-* ``dev``      -- quick local runs (20 examples);
+* ``dev``      -- quick local runs (20 examples, random);
 * ``ci``       -- derandomized (the same examples on every run), ``print_blob=True``;
 * ``thorough`` -- 1000 examples, for the ``slow`` marker runs.
 
@@ -22,5 +22,4 @@ settings.register_profile(
     "thorough", max_examples=1000, deadline=None,
     suppress_health_check=[HealthCheck.too_slow],
 )
-_default = "ci" if os.environ.get("CI") else "ci"
-settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", _default))
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
