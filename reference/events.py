@@ -133,6 +133,10 @@ class VelocityZero:
         return flight.noise_v, flight.noise_a
 
 
+#: float64 evaluation of the step only for values whose squares and products stay normal.
+_FLOAT_SAFE_LO, _FLOAT_SAFE_HI = 1e-140, 1e140
+
+
 def safe_step(g, dg, M):
     """A step ``h`` with ``g + dg h - M h^2/2 > 0`` on ``[0, h)`` (``g >= 0``, ``M >= 0``).
 
@@ -144,9 +148,14 @@ def safe_step(g, dg, M):
       ``h* = (g/|dg|) * 2/(1 + sqrt(1 + 2 d)) >= (g/|dg|) (1 - d/2)``, this is below ``h*``
       and keeps Newton's quadratic convergence (the next ``g`` is ``~ d g``);
     * otherwise ``h*`` evaluated in float64 and shrunk by ``1e-9`` (far from a root the
-      step's precision does not matter, only its safety).
+      step's precision does not matter, only its safety) -- but only while ``g``, ``g'`` and
+      their squares are normal float64 numbers: a subnormal ``float(g)`` carries up to 50 %
+      relative error, far beyond the ``1e-9`` margin, so such values take the working-precision
+      path, which shortens ``h*`` by 16 ulp (its own rounding is a few ulp).
     """
     gf, dgf, Mf = float(g), float(dg), float(M) * (1 + 1e-12)
+    if g > 0 and not (_FLOAT_SAFE_LO < gf < _FLOAT_SAFE_HI and (dgf == 0 or _FLOAT_SAFE_LO < abs(dgf) < _FLOAT_SAFE_HI)):
+        return _safe_step_mp(g, dg, M)
     if g <= 0:                              # leaving a zero (start of a flight): h* = 2 g'/M
         if dgf <= 0:
             return mpmath.mpf(0)
@@ -168,13 +177,16 @@ def safe_step(g, dg, M):
 
 
 def _safe_step_mp(g, dg, M):
-    """``h*`` at the working precision (values outside float64's range)."""
+    """``h*`` at the working precision, shortened by 16 ulp (values outside float64's
+    comfortable range; the few roundings of this formula are within a few ulp of ``h*``,
+    and a step that lands one rounding past ``h*`` would not be safe)."""
+    shrink = 1 - mpmath.ldexp(1, 4 - mpmath.mp.prec)
     if M == 0:
-        return mpmath.inf if dg >= 0 else g / -dg
+        return mpmath.inf if dg >= 0 else g / -dg * shrink
     root = mpmath.sqrt(dg * dg + 2 * M * g)
     if dg >= 0:
-        return (dg + root) / M
-    return 2 * g / (root - dg)
+        return (dg + root) / M * shrink
+    return 2 * g / (root - dg) * shrink
 
 
 class _Tracked:

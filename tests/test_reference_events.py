@@ -20,6 +20,8 @@ SCENES = sorted(REFERENCE_SCENES)
 @given(st.floats(0, 10), st.floats(-10, 10), st.floats(1e-6, 100),
        st.integers(-60, 0))
 @example(g=1.0, dg=-1.383950664005721e-169, M=1.0, e=0)     # dg^2 underflows in float64
+@example(g=5e-324, dg=0.0, M=1.0, e=-1)   # g below float64's range: h* itself, unshrunk, overshot
+@example(g=3.0, dg=0.0, M=1.0, e=-324)   # g = 3e-324: float(g) = 5e-324, 66 % high
 def test_safe_step_never_jumps_a_root_of_the_quadratic_bound(g, dg, M, e):
     """``g + dg h - M h^2/2 >= 0`` at the returned ``h`` (exactly, at 100 digits)."""
     with mpmath.workdps(60):
