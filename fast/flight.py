@@ -92,16 +92,7 @@ def evaluate(P, h, x0, v0, s, sn0, cs0):
     w, F, f = P.w, P.F, P.f
     if P.damp > 0:
         return _evaluate_damped(P, h, x0, v0, s, sn0, cs0)
-    half = (0.5 * w) * h
-    S = np.sin(half)
-    C = np.cos(half)
-    Pc = cs0 * C - sn0 * S
-    Qs = sn0 * C + cs0 * S
-    twoS = S + S
-    sn = sn0 + twoS * Pc
-    cs = cs0 - twoS * Qs
-    theta = half + half
-    D = theta_minus_sin(theta, S, C)
+    S, twoS, Pc, Qs, sn, cs, D = _half_angle(w, h, sn0, cs0)
     v = v0 + (F / w) * (twoS * Pc)
     dx = v0 * h + (F / (w * w)) * (cs0 * (twoS * S) - sn0 * D)
     if f > 0:
@@ -111,18 +102,24 @@ def evaluate(P, h, x0, v0, s, sn0, cs0):
     return dx, v, cs, sn
 
 
-def _evaluate_damped(P, h, x0, v0, s, sn0, cs0):
-    """``evaluate`` for ``c > 0`` (module docstring, damped flight)."""
-    w, f, c, Pd, Qd = P.w, P.f, P.damp, P.Pd, P.Qd
+def _half_angle(w, h, sn0, cs0):
+    """The half-angle pieces shared by the flights, ``theta = w h``, ``S = sin(theta/2)``:
+    ``sin wt - sin wt0 = 2 S Pc`` and ``cos wt0 - cos wt = 2 S Qs`` (no cancellation),
+    ``Pc = cos(w (t + t0)/2)``, ``Qs = sin(w (t + t0)/2)``, the new ``sin wt``, ``cos wt``,
+    and ``D = theta - sin theta`` (series for small ``theta``)."""
     half = (0.5 * w) * h
     S = np.sin(half)
     C = np.cos(half)
     Pc = cs0 * C - sn0 * S
     Qs = sn0 * C + cs0 * S
     twoS = S + S
-    sn = sn0 + twoS * Pc
-    cs = cs0 - twoS * Qs
-    D = theta_minus_sin(half + half, S, C)
+    return S, twoS, Pc, Qs, sn0 + twoS * Pc, cs0 - twoS * Qs, theta_minus_sin(half + half, S, C)
+
+
+def _evaluate_damped(P, h, x0, v0, s, sn0, cs0):
+    """``evaluate`` for ``c > 0`` (module docstring, damped flight)."""
+    w, f, c, Pd, Qd = P.w, P.f, P.damp, P.Pd, P.Qd
+    S, twoS, Pc, Qs, sn, cs, D = _half_angle(w, h, sn0, cs0)
     y = c * h
     em = -np.expm1(-y)                  # 1 - E
     u0 = Pd * cs0 + Qd * sn0

@@ -125,7 +125,20 @@ class CosineForcing:
         return max(t, t + (self.two_pi - alpha - phi) / self.w)
 
 
-class BaseFlight:
+class _ConstantBounds:
+    """Flights whose certified bounds ``Mx``, ``Mv``, ``Ma`` hold over the whole flight."""
+
+    def bound_x2(self, ta, tb):
+        return self.Mx
+
+    def bound_v2(self, ta, tb):
+        return self.Mv
+
+    def bound_a2(self, ta, tb):
+        return self.Ma
+
+
+class BaseFlight(_ConstantBounds):
     """Closed-form flight of ``x'' = F cos(w t) - s f`` (no damping, no wavenumber).
 
     ``evaluate`` runs on mpmath's raw ``libmp`` tuples (the formulas of the module
@@ -211,15 +224,6 @@ class BaseFlight:
             return -self.F * self.w * self.S0
         return -self.F * self.w * mpmath.sin(self.w * t)
 
-    def bound_x2(self, ta, tb):
-        return self.Mx
-
-    def bound_v2(self, ta, tb):
-        return self.Mv
-
-    def bound_a2(self, ta, tb):
-        return self.Ma
-
 
 def _exp_defect(z):
     """``exp(-z) - 1 + z`` without cancellation (raised precision for small ``z``)."""
@@ -243,7 +247,7 @@ def _theta_minus_sin(theta):
     return +value
 
 
-class DampedFlight:
+class DampedFlight(_ConstantBounds):
     """Closed-form flight of ``x'' + c x' = F cos(w t) - s f`` (``c > 0``, no wavenumber).
 
     With ``phi1 = (1 - E)/c``, ``E = exp(-c h)``, ``theta = w h``, ``P = F c/(c^2 + w^2)``,
@@ -303,12 +307,3 @@ class DampedFlight:
     def jerk(self, t, x, v, a):
         """``a' = -F w sin(w t) - c a``."""
         return -self.F * self.w * mpmath.sin(self.w * t) - self.c * a
-
-    def bound_x2(self, ta, tb):
-        return self.Mx
-
-    def bound_v2(self, ta, tb):
-        return self.Mv
-
-    def bound_a2(self, ta, tb):
-        return self.Ma
