@@ -35,12 +35,9 @@ def engine():
 
 
 def phi(scene, x, v, periods=1):
-    """``Phi^periods`` on a batch as a pair of float arrays (accepts a tuple or a (..., 2) array from fast)."""
-    out = engine().stroboscopic_map(scene, np.asarray(x, float), np.asarray(v, float), periods=periods)
-    if isinstance(out, tuple):
-        return np.asarray(out[0], float), np.asarray(out[1], float)
-    arr = np.asarray(out, float)
-    return arr[..., 0], arr[..., 1]
+    """``Phi^periods`` on a batch as a pair of float arrays."""
+    x, v = engine().stroboscopic_map(scene, np.asarray(x, float), np.asarray(v, float), periods=periods)
+    return np.asarray(x, float), np.asarray(v, float)
 
 
 def scene_walls(scene):
@@ -48,20 +45,13 @@ def scene_walls(scene):
 
 
 def orbit_jacobian(scene, x, v, k=1):
-    """``Phi^k(z)`` and ``D Phi^k(z)`` for a batch: returns ``(xk, vk, J)``, ``J`` (..., 2, 2)."""
-    fe = engine()
-    x = np.asarray(x, float)
-    v = np.asarray(v, float)
-    J = np.broadcast_to(np.eye(2), x.shape + (2, 2)).copy()
-    for _ in range(k):
-        if hasattr(fe, "map_and_jacobian"):
-            x, v, Jk, _zv = fe.map_and_jacobian(scene, x, v)
-            x, v = np.asarray(x, float), np.asarray(v, float)
-        else:
-            Jk = fe.jacobian(scene, x, v)
-            x, v = phi(scene, x, v)
-        J = np.asarray(Jk, float) @ J
-    return x, v, J
+    """``Phi^k(z)`` and ``D Phi^k(z)`` for a 1-D batch: ``(xk, vk, J)``, ``J`` (n, 2, 2).
+
+    The chain rule over ``k`` periods is ``fast.analysis.map_and_jacobian``'s (one place).
+    """
+    from fast.analysis import map_and_jacobian
+
+    return map_and_jacobian(scene, x, v, period=k)
 
 
 def newton_periodic(scene, x, v, k=1, tol=NEWTON_TOL, max_iter=NEWTON_MAX_ITER):

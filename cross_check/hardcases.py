@@ -198,27 +198,25 @@ def hard_cases(scene: Scene) -> list[HardCase]:
         return [c for c in out if c is not None]
 
 
-def _boundary_case(scene, t_b, mids):
-    """Turning point exactly at ``A = -f`` (stick of zero length, then slip): ``s = +1``, ``v = 0``."""
+def _stop_case(scene, t_star, mids, name, where):
+    """``v`` reaches 0 at ``t_star`` at the first mid-gap position that a backward flight
+    (``s = +1``, ``v = 0``) reaches from ``t = 0``; ``where`` says what the force is there."""
     for xm in mids:
         try:
-            x0, v0, log = construct_backward(scene, t_b, xm, 0, 1)
+            x0, v0, log = construct_backward(scene, t_star, xm, 0, 1)
         except ConstructionError:
             continue
-        return HardCase("stick_slip_boundary", _dec(x0), _dec(v0), _dec(t_b), "stick",
-                        f"v reaches 0 at x = {mpmath.nstr(xm, 8)} at t* = acos(-f/F)/w where A = -f exactly; "
+        return HardCase(name, _dec(x0), _dec(v0), _dec(t_star), "stick",
+                        f"v reaches 0 at x = {mpmath.nstr(xm, 8)} at {where}; "
                         f"backward with {len(log)} earlier events")
     return None
+
+
+def _boundary_case(scene, t_b, mids):
+    """Turning point exactly at ``A = -f`` (stick of zero length, then slip)."""
+    return _stop_case(scene, t_b, mids, "stick_slip_boundary", "t* = acos(-f/F)/w where A = -f exactly")
 
 
 def _stick_case(scene, t_s, mids):
     """A stick: ``v`` reaches 0 at ``t* = T/4`` where ``A = 0``, inside ``|A| <= f``."""
-    for xm in mids:
-        try:
-            x0, v0, log = construct_backward(scene, t_s, xm, 0, 1)
-        except ConstructionError:
-            continue
-        return HardCase("sticking", _dec(x0), _dec(v0), _dec(t_s), "stick",
-                        f"v reaches 0 at x = {mpmath.nstr(xm, 8)} at t* = T/4 where A = 0 < f; "
-                        f"backward with {len(log)} earlier events")
-    return None
+    return _stop_case(scene, t_s, mids, "sticking", "t* = T/4 where A = 0 < f")

@@ -48,11 +48,8 @@ MAX_HALVINGS = 5
 
 
 def _map(scene: Scene, x, v, periods: int = 1):
-    out = fast.stroboscopic_map(scene, x, v, periods=periods)
-    if isinstance(out, tuple):
-        return np.asarray(out[0], dtype=float), np.asarray(out[1], dtype=float)
-    arr = np.asarray(out, dtype=float)
-    return arr[..., 0], arr[..., 1]
+    X, V = fast.stroboscopic_map(scene, x, v, periods=periods)
+    return np.asarray(X, dtype=float), np.asarray(V, dtype=float)
 
 
 def map_and_jacobian(scene: Scene, x, v, period: int = 1):

@@ -225,26 +225,25 @@ class BaseFlight(_ConstantBounds):
         return -self.F * self.w * mpmath.sin(self.w * t)
 
 
-def _exp_defect(z):
-    """``exp(-z) - 1 + z`` without cancellation (raised precision for small ``z``)."""
+def _guarded(z, leading_cancels):
+    """``leading_cancels(z)``, a difference whose leading terms cancel to ``O(z^2)``: for small
+    ``z`` it loses ``log2(1/z^2)`` bits, which as many guard bits (plus 10) restore."""
     if z == 0:
         return mpf(0)
     mag = mpmath.mag(z)
-    extra = 10 if mag > 0 else 2 * (1 - mag) + 10
-    with mpmath.extraprec(extra):
-        value = mpmath.expm1(-z) + z
+    with mpmath.extraprec(10 if mag > 0 else 2 * (1 - mag) + 10):
+        value = leading_cancels(z)
     return +value
+
+
+def _exp_defect(z):
+    """``exp(-z) - 1 + z`` without cancellation."""
+    return _guarded(z, lambda u: mpmath.expm1(-u) + u)
 
 
 def _theta_minus_sin(theta):
-    """``theta - sin theta`` without cancellation (raised precision for small ``theta``)."""
-    if theta == 0:
-        return mpf(0)
-    mag = mpmath.mag(theta)
-    extra = 10 if mag > 0 else 2 * (1 - mag) + 10
-    with mpmath.extraprec(extra):
-        value = theta - mpmath.sin(theta)
-    return +value
+    """``theta - sin theta`` without cancellation."""
+    return _guarded(theta, lambda u: u - mpmath.sin(u))
 
 
 class DampedFlight(_ConstantBounds):
