@@ -49,8 +49,9 @@ def _params(scene):
     return Params.from_scene(scene)
 
 
-def _run_all(P, x, v, t_end, jac=False, log=None):
-    """Run the kernel over flat arrays in chunks; returns (x, v, zv, J)."""
+def _run_all(P, x, v, t_end, jac=False, log=None, t_end_lo=0.0):
+    """Run the kernel over flat arrays in chunks to ``t_end + t_end_lo`` (a period:
+    ``P.T + P.T_lo``, the exact period as a double-double); returns (x, v, zv, J)."""
     if not isinstance(P, Params):           # position forcing: fast.ode's event loop
         return ode.run_all(P, x, v, t_end, jac=jac, log=log)
     n = x.size
@@ -64,7 +65,7 @@ def _run_all(P, x, v, t_end, jac=False, log=None):
 
     def one(i0):
         sl = slice(i0, min(i0 + size, n))
-        return kernel.run(P, x[sl], v[sl], t_end, jac=jac, log=log, offset=i0)
+        return kernel.run(P, x[sl], v[sl], t_end, jac=jac, log=log, offset=i0, t_end_lo=t_end_lo)
 
     if threaded and len(starts) > 1:
         with ThreadPoolExecutor(THREADS) as pool:
@@ -93,7 +94,7 @@ def stroboscopic_map(scene, x, v, *, periods=1):
     shape = x.shape
     xs, vs = x.ravel().copy(), v.ravel().copy()
     for _ in range(int(periods)):
-        xs, vs, _, _ = _run_all(P, xs, vs, P.T)
+        xs, vs, _, _ = _run_all(P, xs, vs, P.T, t_end_lo=P.T_lo)
     return xs.reshape(shape), vs.reshape(shape)
 
 
@@ -108,7 +109,7 @@ def orbit(scene, x, v, n):
     X[0], V[0] = x, v
     xs, vs = x.ravel().copy(), v.ravel().copy()
     for i in range(1, int(n) + 1):
-        xs, vs, _, _ = _run_all(P, xs, vs, P.T)
+        xs, vs, _, _ = _run_all(P, xs, vs, P.T, t_end_lo=P.T_lo)
         X[i], V[i] = xs.reshape(x.shape), vs.reshape(x.shape)
     return X, V
 
@@ -119,7 +120,7 @@ def jacobian(scene, x, v):
     ``[[1, 0], [0, 0]]``; wall contact the zero matrix)."""
     P = _params(scene)
     x, v = _validate(P, x, v)
-    _, _, _, J = _run_all(P, x.ravel(), v.ravel(), P.T, jac=True)
+    _, _, _, J = _run_all(P, x.ravel(), v.ravel(), P.T, jac=True, t_end_lo=P.T_lo)
     return J.reshape(x.shape + (2, 2))
 
 
@@ -129,7 +130,7 @@ def zero_velocity(scene, x, v):
     ``Omega_dissip``; the rest is ``Omega_pres``."""
     P = _params(scene)
     x, v = _validate(P, x, v)
-    _, _, zv, _ = _run_all(P, x.ravel(), v.ravel(), P.T)
+    _, _, zv, _ = _run_all(P, x.ravel(), v.ravel(), P.T, t_end_lo=P.T_lo)
     return zv.reshape(x.shape)
 
 
@@ -137,7 +138,7 @@ def map_and_jacobian(scene, x, v):
     """``(x1, v1, J, zero_velocity)`` over one period in one pass."""
     P = _params(scene)
     x, v = _validate(P, x, v)
-    xs, vs, zv, J = _run_all(P, x.ravel(), v.ravel(), P.T, jac=True)
+    xs, vs, zv, J = _run_all(P, x.ravel(), v.ravel(), P.T, jac=True, t_end_lo=P.T_lo)
     sh = x.shape
     return xs.reshape(sh), vs.reshape(sh), J.reshape(sh + (2, 2)), zv.reshape(sh)
 

@@ -89,9 +89,10 @@ def events(scene, x, v, t_end=None):
         raise NotImplementedError(f"fast.events: event logs for effects {sorted(scene.effects)} "
                                   "(numerical flights of fast.ode) are not implemented")
     x, v = _validate(P, x, v)
-    t_end = P.T if t_end is None else float(t_end)
+    t_end, t_end_lo = (P.T, P.T_lo) if t_end is None else (float(t_end), 0.0)
     if not (t_end >= 0 and np.isfinite(t_end)):
         raise ValueError(f"fast: t_end must be finite and >= 0, got {t_end!r}")
     records = []
-    xs, vs, _, _ = kernel.run(P, x.ravel().copy(), v.ravel().copy(), t_end, log=records)
+    xs, vs, _, _ = kernel.run(P, x.ravel().copy(), v.ravel().copy(), t_end, log=records,
+                                t_end_lo=t_end_lo)
     return EventLog(x.shape, records, x.size, xs, vs)

@@ -129,3 +129,30 @@ def _evaluate_damped(P, h, x0, v0, s, sn0, cs0):
     dx = (v0 * (em / c) + (Pd * (-sn0 * S2 - cs0 * D) + Qd * (cs0 * S2 - sn0 * D)) / w
           + (c * u0 - sf) * ((h * h) * phi2(y)))
     return dx, v, cs, sn
+
+
+def two_sum(a, b):
+    """Knuth's error-free sum: ``a + b = s + e`` exactly (``s`` the rounded sum)."""
+    s = a + b
+    bb = s - a
+    return s, (a - (s - bb)) + (b - bb)
+
+
+def phase_trig(P, t, t_lo):
+    """``(cos w t, sin w t)`` at the double-double time ``t + t_lo`` with the scene's
+    double-double ``w + w_lo`` (``fast.params``), to about an ulp of each value.
+
+    The phase ``w t`` is formed error-free (Dekker's product with the split ``w = w_s1 +
+    w_s2``) plus the small terms ``w t_lo + w_lo t``, and the trig of the rounded phase is
+    corrected to first order: ``cos(p + q) = cos p - q sin p`` (``|q| <~ 1e-15``: the
+    omitted ``q^2/2`` is below 1e-30).  A phase rounded to float64 instead is off by up to
+    half an ulp of ``w t`` (4e-16 near 2 pi), which moves the force ``F cos wt`` by
+    ``F`` times that: several ulp of ``v`` per flight when ``F / w`` is large."""
+    p = P.w * t
+    c = 134217729.0 * t
+    t1 = c - (c - t)
+    t2 = t - t1
+    q = ((P.w_s1 * t1 - p) + P.w_s1 * t2 + P.w_s2 * t1) + P.w_s2 * t2
+    q += P.w * t_lo + P.w_lo * t
+    cp, sp = np.cos(p), np.sin(p)
+    return cp - q * sp, sp + q * cp

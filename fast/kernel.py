@@ -13,8 +13,9 @@ index arrays, so finished states cost nothing):
    (speculative) is kept only if the backward windows at it reach back to ``C1, C2``,
    else the state retreats to ``min(C1, C2)``; at a kept point the accepted root (if it
    is earlier than the other function's certified end and ``t_end``) is processed at
-   once, the state being Taylor-extrapolated over the tiny offset (|d| <= d_acc) and
-   the trig recomputed exactly at the event time; otherwise the next trial is the
+   once, the state being recomputed at the event in long double (``fast.precise``: one
+   or two local-model steps onto the exact event, |d| <= d_acc) and the trig at the
+   double-double event time; otherwise the next trial is the
    predicted crossing (exact-curvature quadratic) or ``t_end``.  A state certified at
    ``t_end`` with no event there is finished (events exactly at ``t_end`` are processed).
 
@@ -32,7 +33,8 @@ from __future__ import annotations
 import numpy as np
 
 from . import events_proc as ep
-from .flight import evaluate
+from . import precise
+from .flight import evaluate, phase_trig, two_sum
 from .params import EPS, damped_bounds
 from .roots import analyze
 
@@ -41,14 +43,21 @@ MAX_EVENTS = 1_000_000
 
 # rows of the state table
 (T0, X0, V0, S, SN0, CS0, TT, D0, IDX, PEND, NIT, NEV, FRESH, CHN, ZV, C1, C2, SPEC, NFAIL,
- J11, J12, J21, J22) = range(23)
-N_ROWS = 23
+ T0LO, X0LO, V0LO, J11, J12, J21, J22) = range(26)
+N_ROWS = 26
 # pending codes
 NONE, IMPACT, VZERO, END, ATWALL = 0, 1, 2, 3, 4
 
 
-def run(P, x, v, t_end, *, jac=False, log=None, offset=0):
-    """Integrate 1-d float arrays ``x, v`` from 0 to ``t_end``.
+def run(P, x, v, t_end, *, jac=False, log=None, offset=0, t_end_lo=0.0):
+    """Integrate 1-d float arrays ``x, v`` from 0 to ``t_end`` (+ ``t_end_lo``: the end
+    as a double-double, e.g. the period ``P.T + P.T_lo``).
+
+    Times are double-doubles where an error of one ulp of ``t`` would show: a segment
+    starts at ``T0 + T0LO`` (an event at ``b + d`` is stored error-free with
+    ``two_sum``), and a trial time ``b`` is a float, evaluated at ``h = (b - T0) - T0LO``
+    (+ ``t_end_lo`` at ``b = t_end``).  An event time rounded to float64 would move the
+    state after an impact by ``2 |v|`` times half an ulp of ``t``: several ulp of ``x``.
 
     Returns ``(x, v, zero_velocity, J)`` with ``J`` of shape ``(n, 4)`` (row-major
     2x2) or ``None``.  ``log`` (a list) receives the event records when given.
@@ -61,13 +70,13 @@ def run(P, x, v, t_end, *, jac=False, log=None, offset=0):
     while st.shape[1]:
         rounds += 1
         _check_bounds(P, st, rounds, offset)
-        h = st[TT] - st[T0]
+        h = _offset(st, t_end, t_end_lo)
         dx, vv, cs, sn = evaluate(P, h, st[X0], st[V0], st[S], st[SN0], st[CS0])
         pi = np.flatnonzero(st[PEND])
         if pi.size:
             sub = st[:, pi]
             fin = ep.process(P, sub, dx[pi], vv[pi], cs[pi], sn[pi], t_end, out, log, jac,
-                             exact_trig=False)
+                             t_lo=np.where(sub[TT] == t_end, t_end_lo, 0.0), exact_trig=False)
             st[:, pi] = sub
             dx[pi] = 0.0
             vv[pi] = sub[V0]
@@ -78,7 +87,7 @@ def run(P, x, v, t_end, *, jac=False, log=None, offset=0):
                 keep[pi[fin]] = False
                 st, dx, vv, cs, sn = st[:, keep], dx[keep], vv[keep], cs[keep], sn[keep]
         if st.shape[1]:
-            st = _advance(P, st, dx, vv, cs, sn, t_end, tol, out, jac, log)
+            st = _advance(P, st, dx, vv, cs, sn, t_end, tol, out, jac, log, t_end_lo)
     bad = ~(np.isfinite(out[0]) & np.isfinite(out[1]))
     if bad.any():
         idx = np.flatnonzero(bad)[:5]
@@ -115,6 +124,15 @@ def _initial(P, x, v, jac):
     return st
 
 
+def _offset(st, t_end, t_end_lo):
+    """Flight time ``h`` from the segment start ``T0 + T0LO`` to the trial time ``TT``
+    (``t_end + t_end_lo`` when the trial is the end)."""
+    h = (st[TT] - st[T0]) - st[T0LO]
+    if t_end_lo:
+        h += np.where(st[TT] == t_end, t_end_lo, 0.0)
+    return h
+
+
 def _check_bounds(P, st, rounds, offset=0):
     bad = (st[NIT] > MAX_SEGMENT_ROUNDS) | (st[NEV] > MAX_EVENTS)
     if bad.any():
@@ -132,7 +150,7 @@ def _values(P, st, dx, v, cs, sn, M1):
     (with damping ``s x'' = s A - f - c s v`` and ``s x''' = s A' - c s x''``)."""
     s = st[S]
     a = s * (P.F * cs) - P.f                      # s x'' = s A - f (- c s v)
-    h = st[TT] - st[T0]
+    h = st[TT] - st[T0]                           # for the noise floors only
     av0 = np.abs(st[V0])
     # noise floors: 8 ulp of the largest term of x(t) - x0 (resp. v), capped by the scene's
     n1 = np.minimum((8 * EPS) * (st[D0] + av0 * h + (0.5 * M1) * (h * h)), P.noise1)
@@ -208,27 +226,10 @@ def _plan(P, st, dx, v, cs, sn, t_end, tol):
     return code, est, fin
 
 
-def _extrapolate(P, st, dx, v, cs, sn, d):
-    """State at ``trial + d`` (``|d| <= d_acc``) by the Taylor series of the flight:
-    x'' = A - s f, x''' = A', v''' = A'' (the omitted terms are below eps); with damping
-    x'' = A - s f - c v, x''' = A' - c x'', v''' = A'' - c x'''."""
-    A = P.F * cs
-    Ap = -(P.F * P.w) * sn
-    App = -(P.F * P.w * P.w) * cs
-    acc = A - st[S] * P.f
-    if P.damp > 0:
-        acc = acc - P.damp * v
-        Ap = Ap - P.damp * acc
-        App = App - P.damp * Ap
-    dd = d * d
-    dx_e = dx + v * d + acc * (0.5 * dd) + Ap * (dd * d / 6.0)
-    v_e = v + acc * d + Ap * (0.5 * dd) + App * (dd * d / 6.0)
-    return dx_e, v_e
-
-
-def _advance(P, st, dx, v, cs, sn, t_end, tol, out, jac, log):
-    """Plan every running flight; process the accepted events at once (Taylor
-    extrapolation over the tiny offset, exact trig at the event time) and plan the new
+def _advance(P, st, dx, v, cs, sn, t_end, tol, out, jac, log, t_end_lo=0.0):
+    """Plan every running flight; process the accepted events at once (the state
+    recomputed at the event in long double, ``fast.precise.at_event``; the trig at the
+    double-double event time, ``fast.flight.phase_trig``) and plan the new
     segments from their start values.  Returns the table of the states still running:
     the ones without an event, then the ones with one (a state's numbers never depend
     on its column, and the event log is ordered per state by ``IDX``).  Rebuilding the
@@ -236,26 +237,30 @@ def _advance(P, st, dx, v, cs, sn, t_end, tol, out, jac, log):
     into place plus a compaction (measured 3-4 times dearer)."""
     code, est, fin = _plan(P, st, dx, v, cs, sn, t_end, tol)
     if fin.any():
-        ep.finish_flight(P, st[:, fin], dx[fin], v[fin], out, jac)
+        ep.finish_flight(P, st[:, fin], out, jac, t_end, t_end_lo)
     ev = code != NONE
     ei = np.flatnonzero(ev)
     if not ei.size:
         return st.compress(~fin, axis=1) if fin.any() else st
     sub = st.take(ei, axis=1)
-    d = est[ei]
-    dx_e, v_e = _extrapolate(P, sub, dx[ei], v[ei], cs[ei], sn[ei], d)
-    sub[TT] = sub[TT] + d
-    ph = P.w * sub[TT]
-    cs_e, sn_e = np.cos(ph), np.sin(ph)
-    sub[PEND] = code[ei]
-    fin_e = ep.process(P, sub, dx_e, v_e, cs_e, sn_e, t_end, out, log, jac)
+    # the event time b + d, error-free: b + t_lo (b = TT, t_lo: the end's lo part when
+    # the trial was the end), then + d; snapped onto the exact event in long double
+    t_hi, t_lo = two_sum(sub[TT], est[ei])
+    if t_end_lo:
+        t_lo += np.where(sub[TT] == t_end, t_end_lo, 0.0)
+    code_e, x_e, dx_e, v_e, t_hi, t_lo, lo_e = precise.at_event(P, sub, code[ei], t_hi, t_lo)
+    sub[TT] = t_hi
+    cs_e, sn_e = phase_trig(P, t_hi, t_lo)
+    sub[PEND] = code_e
+    fin_e = ep.process(P, sub, dx_e, v_e, cs_e, sn_e, t_end, out, log, jac, t_lo=t_lo, x=x_e,
+                       lo=lo_e)
     # plan the new segments from their start values (finished rows are dropped)
     zero = np.zeros(ei.size)
     with np.errstate(all="ignore"):         # finished rows hold stale values
         code2, est2, fin2 = _plan(P, sub, zero, sub[V0], sub[CS0], sub[SN0], t_end, tol)
     fin2 &= ~fin_e
     if fin2.any():
-        ep.finish_flight(P, sub[:, fin2], zero[fin2], sub[V0][fin2], out, jac)
+        ep.finish_flight(P, sub[:, fin2], out, jac, t_end, t_end_lo)
         fin_e |= fin2
     # an event at a segment start (rare): evaluated exactly next round
     sub[TT] = np.where(code2 != NONE, sub[TT] + est2, sub[TT])

@@ -551,6 +551,7 @@ class OdeParams:
         self.scene = scene
         self.l, self.r = scene.float("l"), scene.float("r")
         self.T = 2 * math.pi / scene.float("omega")
+        self.T_lo = 0.0        # fast.ode's fixed-step flights run to the float T
 
     @classmethod
     def from_scene(cls, scene):

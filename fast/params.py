@@ -26,9 +26,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import mpmath
 import numpy as np
 
 EPS = 2.0 ** -52
+L = np.longdouble
+#: long double is wider than float64 on this platform (``fast.precise``)
+WIDE = np.finfo(L).nmant > np.finfo(np.float64).nmant
 
 _UNSUPPORTED = {
     "position_forcing": "position-dependent forcing needs the numerical flight of fast.ode, "
@@ -61,7 +65,8 @@ class Params:
     #: noise floors of the two event functions (absolute)
     noise1: float
     noise2: float
-    #: largest |t - t_root| over which an accepted root's state is Taylor-extrapolated:
+    #: largest |t - t_root| over which an accepted root's state is carried by the local
+    #: model of ``fast.precise.at_event``:
     #: the omitted term |A''| d^3 / 6 <= F w^2 d^3 / 6 stays below eps / 48
     d_acc: float
     #: viscous damping c (0: undamped) and the forced particular velocity
@@ -69,6 +74,19 @@ class Params:
     damp: float = 0.0
     Pd: float = 0.0
     Qd: float = 0.0
+    #: double-double parts: the scene's w = w + w_lo and period 2 pi / w = T + T_lo
+    #: (``T`` correctly rounded); ``w_s1 + w_s2 = w`` is Dekker's split of ``w`` (26 + 27
+    #: bits) for the error-free product ``w t`` (``fast.flight.phase_trig``)
+    w_lo: float = 0.0
+    T_lo: float = 0.0
+    w_s1: float = 0.0
+    w_s2: float = 0.0
+    #: the phases where sticking or wall contact end, ``pi - alpha`` and ``2 pi - alpha``
+    #: (``alpha = arccos(f/F)`` of the exact scene), as double-doubles (``fast.modes``)
+    B1: tuple = (0.0, 0.0)
+    B2: tuple = (0.0, 0.0)
+    #: the flight parameters in long double (``fast.precise``)
+    wide: "Wide" = None
 
     @classmethod
     def from_scene(cls, scene) -> "Params":
@@ -81,7 +99,7 @@ class Params:
         F, f, w = scene.float("F"), scene.float("f"), scene.float("omega")
         l, r = scene.float("l"), scene.float("r")
         cd = scene.float("damping") if scene.has("damping") else 0.0
-        T = 2.0 * math.pi / w
+        T, T_lo, w_lo = _double_double_times(scene)
         c = f / F if F > 0 else math.inf
         alpha = math.acos(c) if c < 1 else 0.0
         tiny = 1e-300
@@ -96,13 +114,80 @@ class Params:
             noise1=16 * EPS * scale_x, noise2=16 * EPS * scale_v,
             d_acc=0.5 * (EPS / max(F * w * w, tiny)) ** (1.0 / 3.0),
             damp=cd, Pd=F * cd / (cd * cd + w * w), Qd=F * w / (cd * cd + w * w),
+            w_lo=w_lo, T_lo=T_lo, w_s1=_split(w)[0], w_s2=_split(w)[1],
+            wide=Wide.from_scene(scene), **_exit_phases(scene, c < 1),
         )
+
+
+@dataclass(frozen=True)
+class Wide:
+    """The flight parameters in long double (``fast.flight.evaluate`` reads these)."""
+
+    F: np.longdouble
+    f: np.longdouble
+    w: np.longdouble
+    damp: np.longdouble
+    Pd: np.longdouble
+    Qd: np.longdouble
+    half_w: np.longdouble
+    F_w: np.longdouble
+    F_w2: np.longdouble
+
+    @classmethod
+    def from_scene(cls, scene) -> "Wide":
+        """Parameter conversion: the scene's exact values at 40 digits, to long double."""
+        with mpmath.workdps(40):
+            F, f, w = scene.mpf("F"), scene.mpf("f"), scene.mpf("omega")
+            c = scene.mpf("damping") if scene.has("damping") else mpmath.mpf(0)
+            vals = dict(F=F, f=f, w=w, damp=c, Pd=F * c / (c * c + w * w), Qd=F * w / (c * c + w * w))
+            vals.update(half_w=w / 2, F_w=F / w, F_w2=F / (w * w))
+            return cls(**{key: L(mpmath.nstr(val, 30, strip_zeros=False)) for key, val in vals.items()})
+
+
+def _double_double_times(scene):
+    """``(T, T_lo, w_lo)``: the exact period ``2 pi / w`` and frequency of the scene as
+    double-double pairs (hi correctly rounded, lo the rounding error rounded).
+
+    Parameter conversion, not integration: the scene's exact value of ``w`` (a rational
+    or a pi expression) is read once at 40 digits.  A float period ``T`` alone misses
+    up to half an ulp of ``T`` (``2 pi`` has ``T_lo = 2.4e-16``), which moves the final
+    state by ``|v| T_lo``: several ulp of ``x`` over each period."""
+    with mpmath.workdps(40):
+        w_ex = scene.mpf("omega")
+        T_ex = 2 * mpmath.pi / w_ex
+        T = float(T_ex)
+        return T, float(T_ex - T), float(w_ex - float(w_ex))
+
+
+def _exit_phases(scene, ends: bool) -> dict:
+    """``B1 = pi - alpha``, ``B2 = 2 pi - alpha`` as double-double pairs from the exact
+    ``f / F`` at 40 digits (parameter conversion): the time a sticking or contact
+    interval ends is ``(B + 2 pi n) / w``, computed in double-double from these
+    (``fast.events_proc._exit_time``) rather than as ``t + dphi / w``, whose rounding
+    (half an ulp of ``t`` and of ``dphi``) shifts every later flight."""
+    if not ends:
+        return {}
+    with mpmath.workdps(40):
+        alpha = mpmath.acos(scene.mpf("f") / scene.mpf("F"))
+        return {key: (float(b), float(b - float(b)))
+                for key, b in (("B1", mpmath.pi - alpha), ("B2", 2 * mpmath.pi - alpha))}
+
+
+#: 2 pi as a double-double and Dekker's split of its high part
+TWO_PI = (6.283185307179586, 2.4492935982947064e-16)
+
+
+def _split(a: float) -> tuple:
+    """Dekker's split ``a = a1 + a2`` with ``a1`` carrying 26 bits (exact products)."""
+    c = 134217729.0 * a
+    a1 = c - (c - a)
+    return a1, a - a1
 
 
 def damped_bounds(P, av0):
     """Per-segment bounds ``(M1, M2, M2_3, d_acc)`` of a damped flight starting with speed
     ``|v0| = av0`` (module docstring); ``d_acc = 0.5 (eps / M2_3)^(1/3)`` as in the
-    undamped case (the Taylor step of ``kernel._extrapolate`` omits ``<= M2_3 d^3 / 6``)."""
+    undamped case (the local model of ``fast.precise.at_event`` omits ``<= M2_3 d^3 / 6``)."""
     c = P.damp
     M1 = np.maximum((P.F + P.f) + np.maximum(c * av0, P.F + P.f), 1e-300)
     M2 = P.F * P.w + c * M1

@@ -16,8 +16,8 @@ For an event function ``g`` with known ``g, g', g''`` at a point ``b`` and bound
 * prediction: the root of the exact-curvature quadratic ``g + g' d + g'' d^2/2`` nearest
   to 0 in the crossing direction (``d < 0`` after an overshoot); error
   ``<= M3 |d|^3 / (6 |g'|)`` near a simple root.  It is *accepted* when that bound is
-  below ``tol`` and ``|d| <= d_acc`` (the caller extrapolates the state over ``d`` by
-  Taylor, exact to float64 there), or when ``|g|`` is below its noise floor while
+  below ``tol`` and ``|d| <= d_acc`` (the caller carries the state over ``d`` by the
+  flight's local model, ``fast.precise.at_event``), or when ``|g|`` is below its noise floor while
   ``g' <= 0`` (a tangential zero at working precision: ``d = 0``).
 
 The kernel jumps to predictions (speculative trials) and keeps a trial only when the
@@ -42,7 +42,7 @@ def analyze(g, g1, g2, M, M3, H_cap, tol, noise, d_acc, fresh=None):
       to 0 in the direction of the crossing (negative after an overshoot, ``g < 0``),
       ``inf`` when the model has none;
     * ``acc``: the root ``b + est`` is accepted: a simple crossing (``g' < 0``), ``|est|
-      <= d_acc`` (Taylor extrapolation of the state over ``est`` exact to float64) and the
+      <= d_acc`` (the state carried over ``est`` by ``fast.precise.at_event``) and the
       model error ``M3 |est|^3 / (6 |g'|) <= tol``; or ``g`` below its noise floor while
       ``g' <= 0`` (a near-tangential zero, ``est = 0``);
     * ``back``: a window ``(b - back, b)`` certified root-free when ``g > 0`` (the global
