@@ -18,7 +18,7 @@ Writes ``report.md`` and PNGs (default ``report/``):
 6. machine, versions, seeds, timings.
 
 Progress goes to stderr, one line per step.  The full report is sized for ~10 minutes on two
-cores, ``--quick`` for under one minute (fewer scenes, states and configurations).
+cores, ``--quick`` for about a minute and a half (fewer scenes, states and configurations).
 """
 from __future__ import annotations
 
@@ -483,7 +483,7 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m cross_check report",
                                      description="accuracy/performance report (markdown + PNG)")
     parser.add_argument("--out", default="report", help="output directory (default: report/)")
-    parser.add_argument("--quick", action="store_true", help="small run, under a minute")
+    parser.add_argument("--quick", action="store_true", help="small run, about a minute and a half")
     parser.add_argument("--skip-claims", action="store_true",
                         help="leave out the claims table (python -m cross_check claims runs it alone)")
     args = parser.parse_args(argv)
