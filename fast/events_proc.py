@@ -17,8 +17,8 @@ import numpy as np
 from . import kernel as k
 from . import precise
 from .modes import chatter_state, chatter_tail, stick_exit, wall_exit
-from .flight import damped_factors, phase_trig, two_sum
-from .params import EPS, TWO_PI, _split
+from .flight import damped_factors, phase_trig, split, two_prod, two_sum
+from .params import EPS, TWO_PI
 
 KINDS = ("impact", "turn", "stick", "slip", "contact", "chatter", "release")
 IMPACT, TURN, STICK, SLIP, CONTACT, CHATTER, RELEASE = range(7)
@@ -264,7 +264,6 @@ def _wall(P, sub, sel, tt, side, cs, sn, t_end, out, log, jac, fin, new):
         new["sn"][rel] = np.where(at_once, sn, side * P.sin_alpha)[rel]
 
 
-
 def _exit_time(P, t, t_lo, dphi, upper):
     """The double-double time at which sticking or wall contact that began at ``t +
     t_lo`` ends, ``dphi / w`` later: exactly the phase ``B + 2 pi n`` with ``B = B1 = pi
@@ -280,14 +279,12 @@ def _exit_time(P, t, t_lo, dphi, upper):
         n = np.where(np.isfinite(n), n, 0.0)
         if np.any(np.abs(n) >= 2.0 ** 26):
             raise RuntimeError("fast: sticking or contact ends more than 2^26 periods in")
-        a1, a2 = _split(TWO_PI[0])
+        a1, a2 = split(TWO_PI[0])
         p1, e1 = two_sum(b_hi, n * a1)        # n a1, n a2 are exact (26 + 26, 27 + 26 bits)
         p2, e2 = two_sum(p1, n * a2)
         ph_lo = (e1 + e2) + (b_lo + n * TWO_PI[1])
         q1 = p2 / P.w                        # (p2 + ph_lo) / (w + w_lo), double-double
-        m1, m2 = _split(q1)
-        prod = q1 * P.w
-        err = ((m1 * P.w_s1 - prod) + m1 * P.w_s2 + m2 * P.w_s1) + m2 * P.w_s2
+        prod, err = two_prod(q1, P.w, P.w_split)
         rem = ((p2 - prod) - err) + (ph_lo - q1 * P.w_lo)
         hi, lo = two_sum(q1, rem / P.w)
         now = dphi == 0

@@ -138,21 +138,32 @@ def two_sum(a, b):
     return s, (a - (s - bb)) + (b - bb)
 
 
+def split(a):
+    """Dekker's split ``a = a1 + a2``, ``a1`` carrying 26 bits: products of halves are exact."""
+    c = 134217729.0 * a
+    a1 = c - (c - a)
+    return a1, a - a1
+
+
+def two_prod(a, b, b_split):
+    """Dekker's error-free product: ``a b = p + e`` exactly (``p`` the rounded product),
+    with ``b_split = split(b)`` (a scene constant, split once)."""
+    p = a * b
+    a1, a2 = split(a)
+    b1, b2 = b_split
+    return p, ((a1 * b1 - p) + a1 * b2 + a2 * b1) + a2 * b2
+
+
 def phase_trig(P, t, t_lo):
     """``(cos w t, sin w t)`` at the double-double time ``t + t_lo`` with the scene's
     double-double ``w + w_lo`` (``fast.params``), to about an ulp of each value.
 
-    The phase ``w t`` is formed error-free (Dekker's product with the split ``w = w_s1 +
-    w_s2``) plus the small terms ``w t_lo + w_lo t``, and the trig of the rounded phase is
+    The phase ``w t`` is formed error-free (``two_prod``) plus the small terms ``w t_lo + w_lo t``, and the trig of the rounded phase is
     corrected to first order: ``cos(p + q) = cos p - q sin p`` (``|q| <~ 1e-15``: the
     omitted ``q^2/2`` is below 1e-30).  A phase rounded to float64 instead is off by up to
     half an ulp of ``w t`` (4e-16 near 2 pi), which moves the force ``F cos wt`` by
     ``F`` times that: several ulp of ``v`` per flight when ``F / w`` is large."""
-    p = P.w * t
-    c = 134217729.0 * t
-    t1 = c - (c - t)
-    t2 = t - t1
-    q = ((P.w_s1 * t1 - p) + P.w_s1 * t2 + P.w_s2 * t1) + P.w_s2 * t2
+    p, q = two_prod(t, P.w, P.w_split)
     q += P.w * t_lo + P.w_lo * t
     cp, sp = np.cos(p), np.sin(p)
     return cp - q * sp, sp + q * cp

@@ -76,7 +76,7 @@ def run(P, x, v, t_end, *, jac=False, log=None, offset=0, t_end_lo=0.0):
         if pi.size:
             sub = st[:, pi]
             fin = ep.process(P, sub, dx[pi], vv[pi], cs[pi], sn[pi], t_end, out, log, jac,
-                             t_lo=np.where(sub[TT] == t_end, t_end_lo, 0.0), exact_trig=False)
+                             t_lo=_end_lo(sub, t_end, t_end_lo), exact_trig=False)
             st[:, pi] = sub
             dx[pi] = 0.0
             vv[pi] = sub[V0]
@@ -124,13 +124,15 @@ def _initial(P, x, v, jac):
     return st
 
 
+def _end_lo(st, t_end, t_end_lo):
+    """The low part of each trial time ``TT``: ``t_end_lo`` where the trial is the end
+    (``t_end + t_end_lo``), else 0."""
+    return np.where(st[TT] == t_end, t_end_lo, 0.0) if t_end_lo else 0.0
+
+
 def _offset(st, t_end, t_end_lo):
-    """Flight time ``h`` from the segment start ``T0 + T0LO`` to the trial time ``TT``
-    (``t_end + t_end_lo`` when the trial is the end)."""
-    h = (st[TT] - st[T0]) - st[T0LO]
-    if t_end_lo:
-        h += np.where(st[TT] == t_end, t_end_lo, 0.0)
-    return h
+    """Flight time ``h`` from the segment start ``T0 + T0LO`` to the trial time."""
+    return ((st[TT] - st[T0]) - st[T0LO]) + _end_lo(st, t_end, t_end_lo)
 
 
 def _check_bounds(P, st, rounds, offset=0):
@@ -246,8 +248,7 @@ def _advance(P, st, dx, v, cs, sn, t_end, tol, out, jac, log, t_end_lo=0.0):
     # the event time b + d, error-free: b + t_lo (b = TT, t_lo: the end's lo part when
     # the trial was the end), then + d; snapped onto the exact event in long double
     t_hi, t_lo = two_sum(sub[TT], est[ei])
-    if t_end_lo:
-        t_lo += np.where(sub[TT] == t_end, t_end_lo, 0.0)
+    t_lo += _end_lo(sub, t_end, t_end_lo)
     code_e, x_e, dx_e, v_e, t_hi, t_lo, lo_e = precise.at_event(P, sub, code[ei], t_hi, t_lo)
     sub[TT] = t_hi
     cs_e, sn_e = phase_trig(P, t_hi, t_lo)

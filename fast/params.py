@@ -29,6 +29,8 @@ from dataclasses import dataclass
 import mpmath
 import numpy as np
 
+from .flight import split
+
 EPS = 2.0 ** -52
 L = np.longdouble
 #: long double is wider than float64 on this platform (``fast.precise``)
@@ -75,12 +77,11 @@ class Params:
     Pd: float = 0.0
     Qd: float = 0.0
     #: double-double parts: the scene's w = w + w_lo and period 2 pi / w = T + T_lo
-    #: (``T`` correctly rounded); ``w_s1 + w_s2 = w`` is Dekker's split of ``w`` (26 + 27
-    #: bits) for the error-free product ``w t`` (``fast.flight.phase_trig``)
+    #: (``T`` correctly rounded); ``w_split`` is Dekker's split of ``w`` for the error-free
+    #: product ``w t`` (``fast.flight.two_prod``)
     w_lo: float = 0.0
     T_lo: float = 0.0
-    w_s1: float = 0.0
-    w_s2: float = 0.0
+    w_split: tuple = (0.0, 0.0)
     #: the phases where sticking or wall contact end, ``pi - alpha`` and ``2 pi - alpha``
     #: (``alpha = arccos(f/F)`` of the exact scene), as double-doubles (``fast.modes``)
     B1: tuple = (0.0, 0.0)
@@ -114,7 +115,7 @@ class Params:
             noise1=16 * EPS * scale_x, noise2=16 * EPS * scale_v,
             d_acc=0.5 * (EPS / max(F * w * w, tiny)) ** (1.0 / 3.0),
             damp=cd, Pd=F * cd / (cd * cd + w * w), Qd=F * w / (cd * cd + w * w),
-            w_lo=w_lo, T_lo=T_lo, w_s1=_split(w)[0], w_s2=_split(w)[1],
+            w_lo=w_lo, T_lo=T_lo, w_split=split(w),
             wide=Wide.from_scene(scene), **_exit_phases(scene, c < 1),
         )
 
@@ -129,9 +130,6 @@ class Wide:
     damp: np.longdouble
     Pd: np.longdouble
     Qd: np.longdouble
-    half_w: np.longdouble
-    F_w: np.longdouble
-    F_w2: np.longdouble
 
     @classmethod
     def from_scene(cls, scene) -> "Wide":
@@ -140,7 +138,6 @@ class Wide:
             F, f, w = scene.mpf("F"), scene.mpf("f"), scene.mpf("omega")
             c = scene.mpf("damping") if scene.has("damping") else mpmath.mpf(0)
             vals = dict(F=F, f=f, w=w, damp=c, Pd=F * c / (c * c + w * w), Qd=F * w / (c * c + w * w))
-            vals.update(half_w=w / 2, F_w=F / w, F_w2=F / (w * w))
             return cls(**{key: L(mpmath.nstr(val, 30, strip_zeros=False)) for key, val in vals.items()})
 
 
@@ -173,15 +170,8 @@ def _exit_phases(scene, ends: bool) -> dict:
                 for key, b in (("B1", mpmath.pi - alpha), ("B2", 2 * mpmath.pi - alpha))}
 
 
-#: 2 pi as a double-double and Dekker's split of its high part
+#: 2 pi as a double-double: hi = float(2 pi), lo = float(2 pi - hi) (mpmath at 40 digits)
 TWO_PI = (6.283185307179586, 2.4492935982947064e-16)
-
-
-def _split(a: float) -> tuple:
-    """Dekker's split ``a = a1 + a2`` with ``a1`` carrying 26 bits (exact products)."""
-    c = 134217729.0 * a
-    a1 = c - (c - a)
-    return a1, a - a1
 
 
 def damped_bounds(P, av0):
