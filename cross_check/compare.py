@@ -279,6 +279,37 @@ def map_digits(other_x, other_v, ref_pairs, cap: float = DIGITS_CAP) -> np.ndarr
                      for ox, ov, r in zip(other_x, other_v, ref_pairs)])
 
 
+def map_error(pair, truth) -> float:
+    """Worst error of ``pair = (x, v)`` against ``truth`` over x and v, scaled by
+    ``max(1, |truth|)`` (``digits`` with ``cap=300``: floored at 1e-300)."""
+    return max(10.0 ** -digits(pair[0], truth[0], cap=300),
+               10.0 ** -digits(pair[1], truth[1], cap=300))
+
+
+def map_floors(scene, x0: float, v0: float, truth, periods: int, dps: int) -> tuple:
+    """``(one_ulp_floor, rounding_floor)`` of issue 3's ten-period target for the float64
+    start ``(x0, v0)``, against ``truth = Phi^periods(x0, v0)``; both from the reference
+    alone (at ``dps``), both at least 1e-17:
+
+    * the one-ulp floor: the spread of the exact map under one-ulp moves of ``x0`` or
+      ``v0`` (chaotic orbits amplify it by up to ~1e7 over ten periods);
+    * the rounding floor: the larger of that and the error of the exact map rounded to
+      float64 after every period -- what any engine that hands float64 states from
+      period to period carries.  On a neutral or contracting direction (sticking, wall
+      contact) the one-ulp floor is below that rounding, so no float64 engine meets it.
+    """
+    ref = _module("reference").stroboscopic_map
+    x0, v0 = float(x0), float(v0)
+    spread = 1e-17
+    for xm, vm in ((np.nextafter(x0, np.inf), v0), (np.nextafter(x0, -np.inf), v0),
+                   (x0, np.nextafter(v0, np.inf)), (x0, np.nextafter(v0, -np.inf))):
+        spread = max(spread, map_error(ref(scene, float(xm), float(vm), periods=periods, dps=dps), truth))
+    x, v = x0, v0
+    for _ in range(periods):
+        x, v = (float(a) for a in ref(scene, x, v, periods=1, dps=dps))
+    return spread, max(spread, map_error((x, v), truth))
+
+
 # --- near-grazing band ----------------------------------------------------------------
 def _ulp_moves(scene, X, V, k: int):
     """The moved starts: ``k`` ulps of ``max(|x|, R)`` and of ``max(|v|, F/w)`` (an ulp of the

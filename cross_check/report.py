@@ -197,21 +197,12 @@ def _timed(fn, *args, repeat: int = 2, **kw):
     return out, best
 
 
-def _err(pair, truth) -> float:
-    """Worst relative error (scaled by max(1, |truth|)) over x and v, floored at 1e-300."""
-    return max(10.0 ** -compare.digits(pair[0], truth[0], cap=300),
-               10.0 ** -compare.digits(pair[1], truth[1], cap=300))
-
-
 def work_precision(plan: Plan, progress) -> dict:
     """Median error and time per trajectory-period for each method and horizon."""
     data = {}
     for periods in plan.wp_periods:
         pts = {}
-        # per state: the one-ulp floor (spread of the exact map under one-ulp moves of
-        # the start), the rounding floor (error of the exact map rounded to float64 after
-        # every period: what any engine that hands float64 states from period to period
-        # carries), and fast's error over each
+        # per state: the one-ulp and rounding floors (compare.map_floors), fast's error over each
         floors, rfloors, ratios, rratios = [], [], [], []
         for name in plan.wp_scenes:
             sc = scenes.scene(name)
@@ -219,22 +210,18 @@ def work_precision(plan: Plan, progress) -> dict:
             X = np.array([c.float()[0] for c in cases])
             V = np.array([c.float()[1] for c in cases])
             truths = [compare.ref_map(sc, c, periods, TRUTH_DPS) for c in cases]
-            for c, X0, V0, tr in zip(cases, X, V, truths):
-                spread = 1e-17
-                for xm, vm in ((np.nextafter(X0, np.inf), V0), (np.nextafter(X0, -np.inf), V0),
-                               (X0, np.nextafter(V0, np.inf)), (X0, np.nextafter(V0, -np.inf))):
-                    moved = scenes.Case(c.name, repr(float(xm)), repr(float(vm)), "float64", "")
-                    spread = max(spread, _err(compare.ref_map(sc, moved, periods, REF_DPS), tr))
-                floors.append(spread)
-                rfloors.append(max(spread, _err(_rounded_orbit(sc, c, periods), tr)))
+            for X0, V0, tr in zip(X, V, truths):
+                floor, rfloor = compare.map_floors(sc, X0, V0, tr, periods, REF_DPS)
+                floors.append(floor)
+                rfloors.append(rfloor)
             for dps in plan.wp_dps:
                 for c, tr in zip(cases, truths):
                     res, sec = _timed(compare.ref_map, sc, c, periods, dps)
-                    pts.setdefault(f"reference dps {dps}", []).append((_err(res, tr), sec / periods))
+                    pts.setdefault(f"reference dps {dps}", []).append((compare.map_error(res, tr), sec / periods))
             reps = max(64, 4096 // len(X))   # fast is a batch engine: time it on a batch of ~4096
             (fx, fv), sec = _timed(compare.fast_map, sc, np.repeat(X, reps), np.repeat(V, reps), periods)
             for i, tr in enumerate(truths):
-                pts.setdefault("fast", []).append((_err((fx[i * reps], fv[i * reps]), tr),
+                pts.setdefault("fast", []).append((compare.map_error((fx[i * reps], fv[i * reps]), tr),
                                                    sec / (reps * len(X) * periods)))
                 rratios.append(pts["fast"][-1][0] / rfloors[len(ratios)])
                 ratios.append(pts["fast"][-1][0] / floors[len(ratios)])
@@ -244,7 +231,7 @@ def work_precision(plan: Plan, progress) -> dict:
                         try:
                             b, sec = _timed(baseline.stroboscopic, sc, X0, V0, periods, method, rtol)
                             pts.setdefault(f"{method} rtol {rtol:.0e}", []).append(
-                                (_err((b.x, b.v), tr), sec / periods))
+                                (compare.map_error((b.x, b.v), tr), sec / periods))
                         except RuntimeError:
                             pts.setdefault(f"{method} rtol {rtol:.0e}", []).append((1.0, math.nan))
             progress(f"work-precision: {name}, {periods} period(s)")
@@ -255,16 +242,6 @@ def work_precision(plan: Plan, progress) -> dict:
                          "rounding_floor": float(np.median(rfloors)),
                          "fast_over_rounding_floor": _ratio_stats(rratios)}
     return data
-
-
-def _rounded_orbit(sc, case, periods: int):
-    """The reference map (``REF_DPS``) iterated ``periods`` times with the state rounded to
-    float64 after every period: the best a float64 engine can hand back."""
-    x, v = case.float()
-    for _ in range(periods):
-        xm, vm = compare.ref_map(sc, scenes.Case(case.name, repr(x), repr(v), "float64", ""), 1, REF_DPS)
-        x, v = float(xm), float(vm)
-    return x, v
 
 
 def _ratio_stats(ratios) -> tuple:

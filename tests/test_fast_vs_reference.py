@@ -10,6 +10,7 @@ import pytest
 
 import fast
 import reference
+from cross_check import compare
 from cross_check.tolerances import tol
 from reference.scene import Scene
 
@@ -90,36 +91,15 @@ def test_jacobian_against_reference(name, scene, vmax):
         assert np.abs(J[i] - Jr).max() <= (t.atol + t.rtol) * scale, (i, J[i], Jr)
 
 
-def _scaled_err(a, b):
-    """Error of the float pair ``a`` against the mpf pair ``b``, scaled by max(1, |b|)."""
-    return max(abs(float(ai) - float(bi)) / max(1.0, abs(float(bi))) for ai, bi in zip(a, b))
-
-
-def _floor(scene, x0, v0, truth, periods):
-    """The rounding floor of issue 3's ten-period target: the larger of the one-ulp floor
-    (the exact map's spread under one-ulp moves of the start) and the error of the exact
-    map rounded to float64 after every period (what any engine that hands float64
-    states from period to period carries; on a neutral or contracting direction it is the
-    larger one).  Both from the reference alone; at least 1e-17."""
-    spread = 1e-17
-    for xm, vm in ((np.nextafter(x0, np.inf), v0), (np.nextafter(x0, -np.inf), v0),
-                   (x0, np.nextafter(v0, np.inf)), (x0, np.nextafter(v0, -np.inf))):
-        spread = max(spread, _scaled_err(
-            reference.stroboscopic_map(scene, float(xm), float(vm), periods=periods, dps=30), truth))
-    x, v = float(x0), float(v0)
-    for _ in range(periods):
-        x, v = (float(a) for a in reference.stroboscopic_map(scene, x, v, dps=30))
-    return max(spread, _scaled_err((x, v), truth))
-
-
 TEN_SCENES = [SCENES[0], SCENES[3], SCENES[4]]
 
 
 @pytest.mark.parametrize("name, scene, vmax", TEN_SCENES, ids=[s[0] for s in TEN_SCENES])
 def test_ten_periods_within_rounding_floor(name, scene, vmax):
     """Issue 3: after ten periods fast's error is within ``fast_ten_period_ulp_factor`` of
-    the rounding floor (``_floor``) for every state, chaotic ones included (their floor
-    is amplified by up to ~1e7 and fast's error with it)."""
+    the rounding floor (``cross_check.compare.map_floors``, from the reference alone) for
+    every state, chaotic ones included (their floor is amplified by up to ~1e7 and fast's
+    error with it)."""
     rng = np.random.default_rng(2026)
     x = rng.uniform(scene.float("l"), scene.float("r"), 8)
     v = rng.uniform(-vmax, vmax, 8)
@@ -127,5 +107,5 @@ def test_ten_periods_within_rounding_floor(name, scene, vmax):
     factor = tol("fast_ten_period_ulp_factor").rtol
     for i in range(x.size):
         truth = reference.stroboscopic_map(scene, float(x[i]), float(v[i]), periods=10, dps=30)
-        floor = _floor(scene, x[i], v[i], truth, 10)
-        assert _scaled_err((X[i], V[i]), truth) <= factor * floor, (i, x[i], v[i], floor)
+        _, floor = compare.map_floors(scene, x[i], v[i], truth, 10, dps=30)
+        assert compare.map_error((X[i], V[i]), truth) <= factor * floor, (i, x[i], v[i], floor)
