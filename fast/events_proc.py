@@ -20,6 +20,8 @@ from .modes import chatter_state, chatter_tail, stick_exit, wall_exit
 from .flight import damped_factors, phase_trig, split, two_prod, two_sum
 from .params import EPS, TWO_PI
 
+_TWO_PI_SPLIT = split(TWO_PI[0])      # Dekker halves of 2 pi: n a1, n a2 exact
+
 KINDS = ("impact", "turn", "stick", "slip", "contact", "chatter", "release")
 IMPACT, TURN, STICK, SLIP, CONTACT, CHATTER, RELEASE = range(7)
 
@@ -279,7 +281,7 @@ def _exit_time(P, t, t_lo, dphi, upper):
         n = np.where(np.isfinite(n), n, 0.0)
         if np.any(np.abs(n) >= 2.0 ** 26):
             raise RuntimeError("fast: sticking or contact ends more than 2^26 periods in")
-        a1, a2 = split(TWO_PI[0])
+        a1, a2 = _TWO_PI_SPLIT
         p1, e1 = two_sum(b_hi, n * a1)        # n a1, n a2 are exact (26 + 26, 27 + 26 bits)
         p2, e2 = two_sum(p1, n * a2)
         ph_lo = (e1 + e2) + (b_lo + n * TWO_PI[1])

@@ -39,17 +39,23 @@ from .flight import evaluate, two_sum
 
 from .params import WIDE, L
 
-def _flight(P, st, t_hi, t_lo):
+def _start_trig(P, st):
+    """Long-double ``(sin, cos)`` of each segment's start phase ``w (T0 + T0LO)``."""
+    ph0 = P.wide.w * (L(st[k.T0]) + L(st[k.T0LO]))
+    return np.sin(ph0), np.cos(ph0)
+
+
+def _flight(P, st, t_hi, t_lo, trig0=None):
     """Long-double ``(dx, v, x'')`` (``dx = x - X0``) of each segment of ``st`` at the
     double-double time ``t_hi + t_lo``: ``fast.flight.evaluate`` run on long-double
-    arrays with the scene's parameters in long double (``P.wide``)."""
+    arrays with the scene's parameters in long double (``P.wide``); ``trig0`` the
+    segments' ``_start_trig`` when already known."""
     W = P.wide            # fast.params.Wide
-    T0, T0LO = L(st[k.T0]), L(st[k.T0LO])
-    h = (L(t_hi) - T0) + (L(t_lo) - T0LO)
-    ph0 = W.w * (T0 + T0LO)
+    h = (L(t_hi) - L(st[k.T0])) + (L(t_lo) - L(st[k.T0LO]))
+    sn0, cs0 = _start_trig(P, st) if trig0 is None else trig0
     s = st[k.S]
     v0 = L(st[k.V0]) + L(st[k.V0LO])
-    dx, v, cs, _ = evaluate(W, h, None, v0, s, np.sin(ph0), np.cos(ph0))
+    dx, v, cs, _ = evaluate(W, h, None, v0, s, sn0, cs0)
     acc = W.F * cs - s * W.f
     if P.damp > 0:
         acc = acc - W.damp * v
@@ -85,13 +91,14 @@ def at_event(P, sub, code, t_hi, t_lo):
     from it); ``x_lo, v_lo`` the long-double state's residuals after rounding ``x, v``
     to float64 (the next segment starts at ``X0 + X0LO, V0 + V0LO``: a chain of impacts
     then carries no float64 rounding of ``v`` from one to the next)."""
-    dx, v, acc = _flight(P, sub, t_hi, t_lo)
+    sn0, cs0 = _start_trig(P, sub)
+    dx, v, acc = _flight(P, sub, t_hi, t_lo, (sn0, cs0))
     code, delta = _step(P, sub, code, dx, v, acc)
     again = np.abs(delta) > 1e-12 * (1.0 + np.abs(t_hi))
     t_hi, t_lo = _add(t_hi, t_lo, delta)
     if again.any():
         part = sub[:, again]
-        dx2, v2, acc2 = _flight(P, part, t_hi[again], t_lo[again])
+        dx2, v2, acc2 = _flight(P, part, t_hi[again], t_lo[again], (sn0[again], cs0[again]))
         _, d2 = _step(P, part, code[again], dx2, v2, acc2, convert=False)
         dx[again], v[again], acc[again], delta[again] = dx2, v2, acc2, d2
         t_hi[again], t_lo[again] = _add(t_hi[again], t_lo[again], d2)
