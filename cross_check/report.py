@@ -217,7 +217,8 @@ def work_precision(plan: Plan, progress) -> dict:
             for dps in plan.wp_dps:
                 for c, tr in zip(cases, truths):
                     res, sec = _timed(compare.ref_map, sc, c, periods, dps)
-                    pts.setdefault(f"reference dps {dps}", []).append((compare.map_error(res, tr), sec / periods))
+                    pts.setdefault(f"reference dps {dps}", []).append(
+                        (compare.map_error(res, tr), sec / periods))
             reps = max(64, 4096 // len(X))   # fast is a batch engine: time it on a batch of ~4096
             (fx, fv), sec = _timed(compare.fast_map, sc, np.repeat(X, reps), np.repeat(V, reps), periods)
             for i, tr in enumerate(truths):

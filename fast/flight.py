@@ -164,11 +164,12 @@ def phase_trig(P, t, t_lo):
     """``(cos w t, sin w t)`` at the double-double time ``t + t_lo`` with the scene's
     double-double ``w + w_lo`` (``fast.params``), to about an ulp of each value.
 
-    The phase ``w t`` is formed error-free (``two_prod``) plus the small terms ``w t_lo + w_lo t``, and the trig of the rounded phase is
-    corrected to first order: ``cos(p + q) = cos p - q sin p`` (``|q| <~ 1e-15``: the
-    omitted ``q^2/2`` is below 1e-30).  A phase rounded to float64 instead is off by up to
-    half an ulp of ``w t`` (4e-16 near 2 pi), which moves the force ``F cos wt`` by
-    ``F`` times that: several ulp of ``v`` per flight when ``F / w`` is large."""
+    The phase ``w t`` is formed error-free (``two_prod``) plus the small terms ``w t_lo +
+    w_lo t``, and the trig of the rounded phase is corrected to first order: ``cos(p +
+    q) = cos p - q sin p`` (``|q| <~ 1e-15``: the omitted ``q^2/2`` is below 1e-30).  A
+    phase rounded to float64 instead is off by up to half an ulp of ``w t`` (4e-16 near
+    2 pi), which moves the force ``F cos wt`` by ``F`` times that: several ulp of ``v``
+    per flight when ``F / w`` is large."""
     p, q = two_prod(t, P.w, P.w_split)
     q += P.w * t_lo + P.w_lo * t
     cp, sp = np.cos(p), np.sin(p)
