@@ -1,0 +1,132 @@
+"""The batch driver: one compiled per-state event loop, run over a batch on threads.
+
+An *engine* is a module with two functions (``fast.loop`` for the closed-form flights,
+``fast.ode`` for position-dependent forcing):
+
+* ``params(scene) -> P``: the scene's float64 constants as a 1-d array (named slots);
+* ``run_range(P, x, v, t_end, t_end_lo, jac, max_events, out_x, out_v, out_zv, out_J,
+  out_nev, out_status, log_kind, log_t, log_x, log_v, log_vb, log_cnt, i0, i1)``, compiled
+  with ``fast.jit.kernel`` (``nogil``): integrates states ``i0 <= i < i1`` of the float64
+  arrays ``x, v`` from ``t = 0`` to the double-double end ``t_end + t_end_lo`` and writes
+
+  - ``out_x[i], out_v[i]``: the state at the end (right limit);
+  - ``out_zv[i]`` (uint8): 1 if the velocity is zero somewhere on ``[0, t_end]`` (turn,
+    stick, wall contact, chatter; a smooth reversal when ``f = 0``; ``v0 = 0``);
+  - ``out_J[i]`` (4 floats, row-major ``Phi'``) when ``jac``, else ``out_J`` has 0 rows;
+  - ``out_nev[i]``: the number of events of the state (a chatter tail counts as one);
+  - ``out_status[i]``: ``OK``, or why the state stopped (``EVENT_BUDGET``: more than
+    ``max_events`` events; ``LOOP_BOUND``: an inner loop exceeded its bound; ``NON_FINITE``);
+  - events ``j < cap`` of the log (``log_*`` of shape ``(n, cap)``, ``cap = 0`` without a
+    log): kind code into ``fast.KINDS``, time, position, velocity after and before, and the
+    impacts simulated one by one before a summed chatter tail (0 for other kinds).
+
+Every state's numbers depend on that state only, so the split into chunks and threads
+never changes a result: the same bits for every batch size, order and thread count.
+"""
+from __future__ import annotations
+
+import os
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+
+OK, EVENT_BUDGET, LOOP_BOUND, NON_FINITE = 0, 1, 2, 3
+_WHY = {EVENT_BUDGET: "more than max_events = {max_events} events",
+        LOOP_BOUND: "an inner loop bound was exceeded",
+        NON_FINITE: "a non-finite value appeared"}
+
+#: worker threads for large batches (the machine's cores, at most 2 by default)
+THREADS = max(1, min(2, os.cpu_count() or 1))
+#: chunks per thread (the states of a batch differ in cost: several chunks balance the load)
+CHUNKS_PER_THREAD = 8
+#: a batch smaller than this runs on the calling thread (thread start-up costs ~50 us)
+MIN_THREADED = 256
+#: initial capacity of an event log row (rows that need more are run again with more)
+LOG_CAP = 32
+
+
+@dataclass
+class Result:
+    """What ``run`` gives back: flat arrays over the batch."""
+
+    x: np.ndarray
+    v: np.ndarray
+    zero_velocity: np.ndarray
+    J: np.ndarray | None
+    n_events: np.ndarray
+    log: tuple | None
+
+
+def _chunks(n, threads):
+    if threads <= 1 or n < MIN_THREADED:
+        return [(0, n)]
+    k = min(threads * CHUNKS_PER_THREAD, n)
+    edges = np.linspace(0, n, k + 1).astype(np.int64)
+    return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:]) if b > a]
+
+
+def _log_arrays(n, cap):
+    return (np.full((n, cap), -1, np.int8), np.full((n, cap), np.nan), np.full((n, cap), np.nan),
+            np.full((n, cap), np.nan), np.full((n, cap), np.nan), np.zeros((n, cap), np.int64))
+
+
+def _run_once(engine, P, x, v, t_end, t_end_lo, jac, max_events, cap, threads):
+    n = x.size
+    out = (np.empty(n), np.empty(n), np.zeros(n, np.uint8),
+           np.zeros((n if jac else 0, 4)), np.zeros(n, np.int64), np.zeros(n, np.int64))
+    log = _log_arrays(n, cap)
+
+    def one(span):
+        engine.run_range(P, x, v, t_end, t_end_lo, jac, max_events, *out, *log, span[0], span[1])
+
+    spans = _chunks(n, threads)
+    if len(spans) == 1:
+        one(spans[0])
+    else:
+        with ThreadPoolExecutor(threads) as pool:
+            list(pool.map(one, spans))
+    return out, log
+
+
+def run(engine, P, x, v, t_end, t_end_lo=0.0, *, jac=False, log=False, max_events,
+        threads=None):
+    """Run ``engine`` over the flat float64 arrays ``x, v`` (module docstring).
+
+    ``log``: gather the event log (rows that overflow ``LOG_CAP`` are run again with room
+    for all their events).  Raises ``RuntimeError`` naming the states that did not finish.
+    """
+    threads = THREADS if threads is None else threads
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    v = np.ascontiguousarray(v, dtype=np.float64)
+    cap = LOG_CAP if log else 0
+    (xs, vs, zv, J, nev, status), logs = _run_once(engine, P, x, v, t_end, t_end_lo, jac,
+                                                   max_events, cap, threads)
+    _raise_on_failures(status, nev, x, v, max_events)
+    if log and nev.size and nev.max() > cap:
+        over = np.flatnonzero(nev > cap)
+        big = int(nev[over].max())
+        _, more = _run_once(engine, P, x[over], v[over], t_end, t_end_lo, False, max_events,
+                            big, threads)
+        logs = tuple(np.concatenate([a, np.full((a.shape[0], big - cap), a.flat[0] * 0 + _pad(a))], 1)
+                     for a in logs)
+        for a, b in zip(logs, more):
+            a[over] = b
+    return Result(xs, vs, zv.astype(bool), J if jac else None, nev, logs if log else None)
+
+
+def _pad(a):
+    return -1 if a.dtype == np.int8 else (0 if a.dtype == np.int64 else np.nan)
+
+
+def _raise_on_failures(status, nev, x, v, max_events):
+    bad = np.flatnonzero(status != OK)
+    if not bad.size:
+        return
+    parts = []
+    for code in np.unique(status[bad]):
+        idx = bad[status[bad] == code][:5]
+        states = ", ".join(f"state {i} (x0={x[i]!r}, v0={v[i]!r}, {nev[i]} events)" for i in idx)
+        why = _WHY.get(int(code), f"status {int(code)}").format(max_events=max_events)
+        parts.append(f"{int(np.count_nonzero(status[bad] == code))} state(s): {why}: {states}")
+    raise RuntimeError("fast: " + "; ".join(parts))
