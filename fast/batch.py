@@ -108,7 +108,7 @@ def run(engine, P, x, v, t_end, t_end_lo=0.0, *, jac=False, log=False, max_event
         big = int(nev[over].max())
         _, more = _run_once(engine, P, x[over], v[over], t_end, t_end_lo, False, max_events,
                             big, threads)
-        logs = tuple(np.concatenate([a, np.full((a.shape[0], big - cap), a.flat[0] * 0 + _pad(a))], 1)
+        logs = tuple(np.concatenate([a, np.full((a.shape[0], big - cap), _pad(a), a.dtype)], 1)
                      for a in logs)
         for a, b in zip(logs, more):
             a[over] = b
