@@ -1,14 +1,18 @@
-"""fast: a vectorised float64 engine for the stroboscopic map of the vibro-impact
-oscillator with Coulomb friction (issue 3).
+"""fast: the float64 ensemble engine for the stroboscopic map of the vibro-impact oscillator
+with Coulomb friction: numpy arrays in and out, ONE compiled per-state event loop (numba).
 
-Shares no code with ``reference`` (only the ``Scene`` definition): see
-``fast.kernel`` for the event loop, ``fast.flight`` for the closed-form flights,
-``fast.roots`` for the certified event location, ``fast.modes`` for sticking, wall
-contact and chatter, ``fast.events_proc`` for the event handling and the Jacobian.
+Shares no code with ``reference`` (only the ``Scene`` definition).  Modules, in the order
+a state meets them: ``api`` (validation, public functions) and ``eventlog`` (``events``);
+``batch`` (the driver: threads over chunks); ``loop`` (the per-state event loop),
+``roots`` (certified event location), ``flight`` (closed-form flights), ``precise``
+(double-double states at events), ``handlers`` (impact, turn, stick, contact, chatter),
+``modes`` (closed-form exits and the chatter tail); ``ode`` (numerical flights for
+position-dependent forcing); ``params``, ``state``, ``dd`` (double-double arithmetic) and
+``jit`` (compile options, in one place).
 """
-from .api import flow, jacobian, map_and_jacobian, orbit, stroboscopic_map, zero_velocity
+from .api import MAX_EVENTS, flow, jacobian, map_and_jacobian, orbit, stroboscopic_map, zero_velocity
 from .eventlog import Event, EventLog, events
-from .events_proc import KINDS
+from .state import KINDS
 
 __all__ = ["stroboscopic_map", "jacobian", "orbit", "zero_velocity", "events",
-           "map_and_jacobian", "flow", "Event", "EventLog", "KINDS"]
+           "map_and_jacobian", "flow", "Event", "EventLog", "KINDS", "MAX_EVENTS"]

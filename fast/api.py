@@ -1,155 +1,160 @@
-"""Public entry points of ``fast``: validation, batching over chunks and threads.
+"""Public entry points of ``fast``: validation, the engine for the scene, and the results'
+shapes (the public function validates and converts; the compiled core trusts its input).
 
-States are processed in chunks of ``CHUNK`` (16384: measured best of 4096..65536 on one
-thread, the larger chunks amortise the per-ufunc Python overhead, the smaller ones stay
-in cache).  Batches of at least ``2 THREADS CHUNK`` states run on ``THREADS`` threads
-(numpy releases the GIL inside its ufuncs) in equal chunks of at most ``4 CHUNK``, a
-multiple of ``THREADS`` of them: the kernel's ufuncs on a few thousand elements last
-microseconds, so two threads on small chunks mostly wait for the GIL (measured at
-N = 1e4: 2 threads x 5000 ran at 0.65-0.85x one thread), while one large chunk per
-thread keeps both cores busy to the end (N = 1e5: 1.2-1.35x the wall throughput of
-7 chunks of 16384 on 2 threads).  Every state's result depends on that state only, so
-the chunking never changes a number.
+Inputs ``x, v`` are numbers or arrays of real numbers (bool, complex, object and string
+arrays are a ``TypeError``; a value that is not finite, or a position outside the walls, a
+``ValueError`` naming the offending entries); they broadcast together and the results
+have the broadcast shape.  ``periods = 0`` is the identity (as in ``reference``).
+
+``max_events`` bounds the events of each state in one call (a chatter tail counts as one):
+at the compiled rate the default ``MAX_EVENTS`` takes at most a few seconds per state.
+A state that needs more (a gap of 1e-9 with ``v = 1``: 6e9 impacts per period) raises a
+``RuntimeError`` naming the states and their event counts instead of running on.
 """
 from __future__ import annotations
 
-import os
-from concurrent.futures import ThreadPoolExecutor
+import numbers
 
 import numpy as np
 
-from . import kernel, ode
-from .params import Params
+from . import batch, loop, ode
+from .params import check_scene
 
-CHUNK = 16384
-THREADS = min(2, os.cpu_count() or 1)
+#: default per-state event budget of one call (about a second of compiled work)
+MAX_EVENTS = 10_000_000
+_REAL_KINDS = "iuf"
+
+
+def _engine(scene):
+    """``(engine, P)`` for the scene: position forcing takes the numerical flights of
+    ``fast.ode`` (the only path to a numerical ODE solver), everything else the closed-form
+    loop."""
+    check_scene(scene)
+    if scene.has("position_forcing"):
+        return ode, ode.params(scene)
+    return loop, loop.params(scene)
+
+
+def _real_array(name, a):
+    arr = np.asarray(a)
+    if arr.dtype.kind not in _REAL_KINDS:
+        raise TypeError(f"fast: {name} must be real numbers (int or float), got dtype "
+                        f"{arr.dtype} ({type(a).__name__}); convert with np.asarray(..., float)")
+    return arr.astype(np.float64, copy=False)
 
 
 def _validate(P, x, v):
-    x, v = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(v, dtype=float))
+    """Broadcast ``x, v`` to float64 arrays; finite, with ``l <= x <= r``."""
+    x, v = np.broadcast_arrays(_real_array("x", x), _real_array("v", v))
     for name, a in (("x", x), ("v", v)):
         bad = ~np.isfinite(a)
         if bad.any():
-            where = np.argwhere(bad)[:5]
-            items = ", ".join(f"{name}[{', '.join(map(str, i))}] = {float(a[tuple(i)])!r}" for i in where)
-            raise ValueError(f"fast: non-finite state: {items} ({int(bad.sum())} in all)")
-    bad = (x < P.l) | (x > P.r)
+            raise ValueError(f"fast: non-finite state: {_items(name, a, bad)} "
+                             f"({int(bad.sum())} in all)")
+    l, r = float(P[loop.p.L]), float(P[loop.p.R])
+    bad = (x < l) | (x > r)
     if bad.any():
-        where = np.argwhere(bad)[:5]
-        items = ", ".join(f"x[{', '.join(map(str, i))}] = {float(x[tuple(i)])!r}" for i in where)
-        raise ValueError(f"fast: {items} is outside the walls [{P.l!r}, {P.r!r}] "
+        raise ValueError(f"fast: {_items('x', x, bad)} is outside the walls [{l!r}, {r!r}] "
                          f"({int(bad.sum())} state(s) in all)")
     return x, v
 
 
-def _params(scene):
-    """The float64 parameters: closed-form flights (base model, restitution e < 1,
-    damping c > 0); scenes with position forcing get ``fast.ode``'s (``Params.from_scene``
-    routes them: the only path to a numerical ODE solver)."""
-    return Params.from_scene(scene)
+def _items(name, a, bad):
+    where = np.argwhere(bad)[:5]
+    return ", ".join(f"{name}[{', '.join(map(str, i))}] = {float(a[tuple(i)])!r}" for i in where)
 
 
-def _run_all(P, x, v, t_end, jac=False, log=None, t_end_lo=0.0):
-    """Run the kernel over flat arrays in chunks to ``t_end + t_end_lo`` (a period:
-    ``P.T + P.T_lo``, the exact period as a double-double); returns (x, v, zv, J)."""
-    if not isinstance(P, Params):           # position forcing: fast.ode's event loop
-        return ode.run_all(P, x, v, t_end, jac=jac, log=log)
-    n = x.size
-    threaded = log is None and THREADS > 1 and n >= 2 * THREADS * CHUNK
-    if threaded:        # equal chunks of at most 4 CHUNK, a multiple of THREADS of them
-        k = THREADS * -(-n // (THREADS * 4 * CHUNK))
-        size = -(-n // k)
-    else:
-        size = CHUNK
-    starts = list(range(0, n, size)) or [0]
-
-    def one(i0):
-        sl = slice(i0, min(i0 + size, n))
-        return kernel.run(P, x[sl], v[sl], t_end, jac=jac, log=log, offset=i0, t_end_lo=t_end_lo)
-
-    if threaded and len(starts) > 1:
-        with ThreadPoolExecutor(THREADS) as pool:
-            parts = list(pool.map(one, starts))
-    else:
-        parts = [one(i0) for i0 in starts]
-    if log is not None and len(starts) > 1:
-        raise AssertionError("event logs are gathered for a single chunk only")
-    xs = np.concatenate([p[0] for p in parts])
-    vs = np.concatenate([p[1] for p in parts])
-    zv = np.concatenate([p[2] for p in parts])
-    J = np.concatenate([p[3] for p in parts]) if jac else None
-    return xs, vs, zv, J
+def _count(name, value, *, low=0):
+    """A non-negative integer argument (``TypeError`` for None or a string, ``ValueError``
+    for a fractional or too small number)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"fast: {name} must be an integer >= {low}, got {value!r}")
+    if int(value) != value or value < low:
+        raise ValueError(f"fast: {name} must be an integer >= {low}, got {value!r}")
+    return int(value)
 
 
-def stroboscopic_map(scene, x, v, *, periods=1):
-    """``Phi^periods(x, v)``: the state at ``t = periods T`` of the motion from ``(x, v)``
-    at ``t = 0`` (each period from ``t0 = 0``: the forcing is ``T``-periodic).
-
-    ``x, v`` broadcast together; returns arrays of the broadcast shape.
-    """
-    if int(periods) != periods or periods < 0:
-        raise ValueError(f"fast: periods must be an integer >= 0, got {periods!r}")
-    P = _params(scene)
+def _setup(scene, x, v, max_events):
+    engine, P = _engine(scene)
     x, v = _validate(P, x, v)
-    shape = x.shape
+    return engine, P, x, v, _count("max_events", max_events, low=1)
+
+
+def _period(engine, P):
+    return P[engine.p.T], P[engine.p.T_LO]
+
+
+def _run(engine, P, x, v, t_end, t_end_lo, max_events, **kw):
+    return batch.run(engine, P, x.ravel(), v.ravel(), t_end, t_end_lo, max_events=max_events, **kw)
+
+
+def stroboscopic_map(scene, x, v, *, periods=1, max_events=MAX_EVENTS):
+    """``Phi^periods(x, v)``: the state at ``t = periods T`` of the motion from ``(x, v)`` at
+    ``t = 0``, each period from ``t0 = 0`` (the forcing is ``T``-periodic) with the state
+    rounded to float64 in between; ``periods = 0`` returns the input."""
+    periods = _count("periods", periods)
+    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
     xs, vs = x.ravel().copy(), v.ravel().copy()
-    for _ in range(int(periods)):
-        xs, vs, _, _ = _run_all(P, xs, vs, P.T, t_end_lo=P.T_lo)
-    return xs.reshape(shape), vs.reshape(shape)
+    for _ in range(periods):
+        res = _run(engine, P, xs, vs, *_period(engine, P), max_events)
+        xs, vs = res.x, res.v
+    return xs.reshape(x.shape), vs.reshape(x.shape)
 
 
-def orbit(scene, x, v, n):
+def orbit(scene, x, v, n, *, max_events=MAX_EVENTS):
     """Iterates ``Phi^k(x, v)``, ``k = 0..n``: arrays of shape ``(n + 1,) + shape``."""
-    if int(n) != n or n < 0:
-        raise ValueError(f"fast: n must be an integer >= 0, got {n!r}")
-    P = _params(scene)
-    x, v = _validate(P, x, v)
-    X = np.empty((int(n) + 1,) + x.shape)
+    n = _count("n", n)
+    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
+    X = np.empty((n + 1,) + x.shape)
     V = np.empty_like(X)
     X[0], V[0] = x, v
     xs, vs = x.ravel().copy(), v.ravel().copy()
-    for i in range(1, int(n) + 1):
-        xs, vs, _, _ = _run_all(P, xs, vs, P.T, t_end_lo=P.T_lo)
-        X[i], V[i] = xs.reshape(x.shape), vs.reshape(x.shape)
+    for k in range(1, n + 1):
+        res = _run(engine, P, xs, vs, *_period(engine, P), max_events)
+        xs, vs = res.x, res.v
+        X[k], V[k] = xs.reshape(x.shape), vs.reshape(x.shape)
     return X, V
 
 
-def jacobian(scene, x, v):
-    """``Phi'`` over one period, shape ``shape + (2, 2)``: the time-ordered product of the
-    paper's Table 1 matrices (reflection with the velocity before impact; sticking
-    ``[[1, 0], [0, 0]]``; wall contact the zero matrix)."""
-    P = _params(scene)
-    x, v = _validate(P, x, v)
-    _, _, _, J = _run_all(P, x.ravel(), v.ravel(), P.T, jac=True, t_end_lo=P.T_lo)
-    return J.reshape(x.shape + (2, 2))
+def map_and_jacobian(scene, x, v, *, max_events=MAX_EVENTS):
+    """``(x1, v1, J, zero_velocity)`` over one period in one pass; ``J`` of shape ``shape +
+    (2, 2)`` is ``Phi'``: the time-ordered product of the paper's Table 1 matrices
+    (reflection with the velocity before impact; sticking ``[[1, 0], [0, 0]]``; wall
+    contact the zero matrix)."""
+    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
+    res = _run(engine, P, x, v, *_period(engine, P), max_events, jac=True)
+    sh = x.shape
+    return res.x.reshape(sh), res.v.reshape(sh), res.J.reshape(sh + (2, 2)), res.zero_velocity.reshape(sh)
 
 
-def zero_velocity(scene, x, v):
+def jacobian(scene, x, v, *, max_events=MAX_EVENTS):
+    """``Phi'`` over one period, shape ``shape + (2, 2)`` (``map_and_jacobian``)."""
+    return map_and_jacobian(scene, x, v, max_events=max_events)[2]
+
+
+def zero_velocity(scene, x, v, *, max_events=MAX_EVENTS):
     """Whether the motion over ``[0, T]`` reaches zero velocity (turn, stick, contact,
     chatter; with ``f = 0`` a smooth velocity reversal counts too): the paper's
     ``Omega_dissip``; the rest is ``Omega_pres``."""
-    P = _params(scene)
-    x, v = _validate(P, x, v)
-    _, _, zv, _ = _run_all(P, x.ravel(), v.ravel(), P.T, t_end_lo=P.T_lo)
-    return zv.reshape(x.shape)
+    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
+    res = _run(engine, P, x, v, *_period(engine, P), max_events)
+    return res.zero_velocity.reshape(x.shape)
 
 
-def map_and_jacobian(scene, x, v):
-    """``(x1, v1, J, zero_velocity)`` over one period in one pass."""
-    P = _params(scene)
-    x, v = _validate(P, x, v)
-    xs, vs, zv, J = _run_all(P, x.ravel(), v.ravel(), P.T, jac=True, t_end_lo=P.T_lo)
-    sh = x.shape
-    return xs.reshape(sh), vs.reshape(sh), J.reshape(sh + (2, 2)), zv.reshape(sh)
-
-
-def flow(scene, x, v, t_end):
-    """The state at ``t_end`` (any ``t_end >= 0``) of the motion from ``(x, v)`` at 0,
-    in one pass (``stroboscopic_map`` restarts each period at ``t = 0`` instead)."""
-    P = _params(scene)
-    x, v = _validate(P, x, v)
+def check_t_end(t_end):
+    """A finite end time ``>= 0`` as a float."""
+    if isinstance(t_end, bool) or not isinstance(t_end, numbers.Real):
+        raise TypeError(f"fast: t_end must be a real number >= 0, got {t_end!r}")
     t_end = float(t_end)
     if not (t_end >= 0 and np.isfinite(t_end)):
         raise ValueError(f"fast: t_end must be finite and >= 0, got {t_end!r}")
-    xs, vs, _, _ = _run_all(P, x.ravel(), v.ravel(), t_end)
-    return xs.reshape(x.shape), vs.reshape(x.shape)
+    return t_end
+
+
+def flow(scene, x, v, t_end, *, max_events=MAX_EVENTS):
+    """The state at ``t_end`` (any ``t_end >= 0``) of the motion from ``(x, v)`` at 0, in one
+    pass (``stroboscopic_map`` restarts each period at ``t = 0`` instead)."""
+    t_end = check_t_end(t_end)
+    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
+    res = _run(engine, P, x, v, t_end, 0.0, max_events)
+    return res.x.reshape(x.shape), res.v.reshape(x.shape)

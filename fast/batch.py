@@ -5,7 +5,8 @@ An *engine* is a module with two functions (``fast.loop`` for the closed-form fl
 
 * ``params(scene) -> P``: the scene's float64 constants as a 1-d array (named slots);
 * ``run_range(P, x, v, t_end, t_end_lo, jac, max_events, out_x, out_v, out_zv, out_J,
-  out_nev, out_status, log_kind, log_t, log_x, log_v, log_vb, log_cnt, i0, i1)``, compiled
+  out_nev, out_status, out_paths, log_kind, log_t, log_x, log_v, log_vb, log_cnt, i0, i1)``,
+  compiled
   with ``fast.jit.kernel`` (``nogil``): integrates states ``i0 <= i < i1`` of the float64
   arrays ``x, v`` from ``t = 0`` to the double-double end ``t_end + t_end_lo`` and writes
 
@@ -16,6 +17,8 @@ An *engine* is a module with two functions (``fast.loop`` for the closed-form fl
   - ``out_nev[i]``: the number of events of the state (a chatter tail counts as one);
   - ``out_status[i]``: ``OK``, or why the state stopped (``EVENT_BUDGET``: more than
     ``max_events`` events; ``LOOP_BOUND``: an inner loop exceeded its bound; ``NON_FINITE``);
+  - ``out_paths[i]``: the code paths the state took, as bits (``fast.state.PATH_*``): the
+    evidence that a scene runs only the effects it switches on;
   - events ``j < cap`` of the log (``log_*`` of shape ``(n, cap)``, ``cap = 0`` without a
     log): kind code into ``fast.KINDS``, time, position, velocity after and before, and the
     impacts simulated one by one before a summed chatter tail (0 for other kinds).
@@ -55,6 +58,7 @@ class Result:
     zero_velocity: np.ndarray
     J: np.ndarray | None
     n_events: np.ndarray
+    paths: np.ndarray
     log: tuple | None
 
 
@@ -73,8 +77,8 @@ def _log_arrays(n, cap):
 
 def _run_once(engine, P, x, v, t_end, t_end_lo, jac, max_events, cap, threads):
     n = x.size
-    out = (np.empty(n), np.empty(n), np.zeros(n, np.uint8),
-           np.zeros((n if jac else 0, 4)), np.zeros(n, np.int64), np.zeros(n, np.int64))
+    out = (np.empty(n), np.empty(n), np.zeros(n, np.uint8), np.zeros((n if jac else 0, 4)),
+           np.zeros(n, np.int64), np.zeros(n, np.int64), np.zeros(n, np.int64))
     log = _log_arrays(n, cap)
 
     def one(span):
@@ -100,7 +104,7 @@ def run(engine, P, x, v, t_end, t_end_lo=0.0, *, jac=False, log=False, max_event
     x = np.ascontiguousarray(x, dtype=np.float64)
     v = np.ascontiguousarray(v, dtype=np.float64)
     cap = LOG_CAP if log else 0
-    (xs, vs, zv, J, nev, status), logs = _run_once(engine, P, x, v, t_end, t_end_lo, jac,
+    (xs, vs, zv, J, nev, status, paths), logs = _run_once(engine, P, x, v, t_end, t_end_lo, jac,
                                                    max_events, cap, threads)
     _raise_on_failures(status, nev, x, v, max_events)
     if log and nev.size and nev.max() > cap:
@@ -112,7 +116,7 @@ def run(engine, P, x, v, t_end, t_end_lo=0.0, *, jac=False, log=False, max_event
                      for a in logs)
         for a, b in zip(logs, more):
             a[over] = b
-    return Result(xs, vs, zv.astype(bool), J if jac else None, nev, logs if log else None)
+    return Result(xs, vs, zv.astype(bool), J if jac else None, nev, paths, logs if log else None)
 
 
 def _pad(a):
@@ -126,7 +130,8 @@ def _raise_on_failures(status, nev, x, v, max_events):
     parts = []
     for code in np.unique(status[bad]):
         idx = bad[status[bad] == code][:5]
-        states = ", ".join(f"state {i} (x0={x[i]!r}, v0={v[i]!r}, {nev[i]} events)" for i in idx)
+        states = ", ".join(f"state {i} (x0={float(x[i])!r}, v0={float(v[i])!r}, {int(nev[i])} events)"
+                           for i in idx)
         why = _WHY.get(int(code), f"status {int(code)}").format(max_events=max_events)
         parts.append(f"{int(np.count_nonzero(status[bad] == code))} state(s): {why}: {states}")
     raise RuntimeError("fast: " + "; ".join(parts))

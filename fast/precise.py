@@ -1,147 +1,120 @@
-"""Extended-precision states at events and at the end of a run (``np.longdouble``).
+"""Double-double states at events and at the end of a run.
 
-The search for events (``fast.roots``, ``fast.kernel``) runs in float64: it only has to
-locate and certify.  The *states* it hands on -- after each event and at ``t_end`` --
-are recomputed here from the segment start in ``np.longdouble`` (x86-64: 64-bit
-significand, ``eps = 1.1e-19``) and rounded to float64 once:
-
-* the segment's start phase ``w (T0 + T0LO)`` and the flight (``fast.flight.evaluate``
-  with the scene's parameters read at 40 digits and rounded to long double; its series
-  for ``theta - sin theta`` truncates at a relative 1e-18, its float64 coefficients
-  add 1e-17 relative of a term of size ``theta^3 / 6``: both far below float64);
-* one or two steps of the flight's local quadratic model from the float64 root onto the
-  exact event (``at_event``), which also settles in long double whether a turning point
-  within float64 noise of a wall reaches it (impact) or not (velocity zero);
-* the segment's start state is carried on as float64 pairs ``X0 + X0LO``, ``V0 + V0LO``
-  (the long-double value rounded, plus the rounding error rounded), so a chain of
-  events within a period is not rounded to float64 at each link.
+The search for events (``fast.roots``) runs in float64: it only has to locate and certify.
+The *states* it hands on -- after each event and at ``t_end`` -- are recomputed here from
+the segment start in double-double (``fast.flight.evaluate_dd``) and carried on as
+double-doubles (``X0 + X0LO``, ``V0 + V0LO``, the start trig), so a chain of events within
+a period is never rounded to float64 between its links; only the state handed back at the
+end of the period is rounded, once.
 
 Why: in float64 every term of ``x(t) - x0`` (``v0 h``, ``(F/w^2)(...)``, ``f h^2/2``) is
-rounded to an ulp of *itself*; where they cancel (strong friction against strong
-forcing: the 3:1 resonance scene has terms 3-4 times the result) a flight loses 2-5 ulp
-of ``x``, an impact turns a position error ``dx`` into ``2 A dx / v`` of velocity, and on
-a sticking orbit (neutral in ``x``) the loss repeats every period.  With the state in
-long double from event to event, what is left is the half-ulp rounding of the state
-handed back at the end of the period: measured against the exact map rounded to
-float64 after every period, fast's ten-period error is within 2x of it on the paper's
-scenes (``cross_check.report``, ``tests/test_fast_vs_reference.py``).
+rounded to an ulp of *itself*; where they cancel (strong friction against strong forcing:
+the 3:1 resonance scene has terms 3-4 times the result) a flight loses 2-5 ulp of ``x``,
+an impact turns a position error into ``2 A dx / v`` of velocity, and on a sticking orbit
+(neutral in ``x``) the loss repeats every period.
 
-Where ``np.longdouble`` is float64 (e.g. Windows, macOS on arm64) this module still runs
-the same steps in float64: the results are then those of a float64 re-evaluation at
-the double-double event time (``WIDE`` is ``False``).
+``at_event`` moves the float64 root onto the exact event with one or two steps of the
+flight's local model.  With ``g = D0 - s dx`` the distance to the wall ahead, ``u = s v``
+the speed towards it and ``a = s x''``, ``g(d) = g - u d - a d^2/2`` gives the impact at
+``d = 2 g / (u + sqrt(u^2 + 2 a g))`` (when that root exists) and the velocity zero at
+``d = -v / x''``.  Near a tangency (a turning point within float64 noise of a wall) the
+float64 search cannot tell the two apart; ``u^2 + 2 a g`` in double-double can, and the
+event changes kind when an impact's wall is not reached (it is the velocity zero before
+it) or a velocity zero lies beyond the wall (it is that impact).  Steps are taken up to
+``d_acc`` (where the cubic term of the flight is below float64 rounding) and repeated
+once from the new time where they were not tiny (the model then errs by ``O(d^6)``).
 """
 from __future__ import annotations
 
-import numpy as np
+import math
 
-from . import kernel as k
-from .flight import evaluate, two_sum
-
-from .params import WIDE, L
-
-def _start_trig(P, st):
-    """Long-double ``(sin, cos)`` of each segment's start phase ``w (T0 + T0LO)``."""
-    ph0 = P.wide.w * (L(st[k.T0]) + L(st[k.T0LO]))
-    return np.sin(ph0), np.cos(ph0)
+from . import dd
+from . import params as p
+from . import state as q
+from .flight import evaluate_dd
+from .jit import kernel
+from .roots import bounds
 
 
-def _flight(P, st, t_hi, t_lo, trig0=None):
-    """Long-double ``(dx, v, x'')`` (``dx = x - X0``) of each segment of ``st`` at the
-    double-double time ``t_hi + t_lo``: ``fast.flight.evaluate`` run on long-double
-    arrays with the scene's parameters in long double (``P.wide``); ``trig0`` the
-    segments' ``_start_trig`` when already known."""
-    W = P.wide            # fast.params.Wide
-    h = (L(t_hi) - L(st[k.T0])) + (L(t_lo) - L(st[k.T0LO]))
-    sn0, cs0 = _start_trig(P, st) if trig0 is None else trig0
-    s = st[k.S]
-    v0 = L(st[k.V0]) + L(st[k.V0LO])
-    dx, v, cs, _ = evaluate(W, h, None, v0, s, sn0, cs0)
-    acc = W.F * cs - s * W.f
-    if P.damp > 0:
-        acc = acc - W.damp * v
-    return dx, v, acc
+@kernel(inline=True)
+def flight_at(P, st, t_hi, t_lo):
+    """``evaluate_dd`` of the current segment at the double-double time ``t_hi + t_lo``."""
+    hh, hl = dd.add(t_hi, t_lo, -st[q.T0], -st[q.T0LO])
+    if P[p.DAMP] > 0.0:
+        st[q.PATHS] = float(int(st[q.PATHS]) | q.PATH_DAMPED)
+    return evaluate_dd(P, st[q.V0], st[q.V0LO], st[q.S], st[q.SN0], st[q.SN0LO], st[q.CS0],
+                       st[q.CS0LO], hh, hl)
 
 
+@kernel
 def at_end(P, st, t_end, t_end_lo):
-    """Float64 ``(x, v)`` of the flights of ``st`` at ``t_end + t_end_lo``."""
-    dx, v, _ = _flight(P, st, np.full(st.shape[1], t_end), np.full(st.shape[1], t_end_lo))
-    return np.clip((L(st[k.X0]) + (L(st[k.X0LO]) + dx)).astype(np.float64), P.l, P.r), v.astype(np.float64)
+    """Float64 ``(x, v)`` of the current flight at ``t_end + t_end_lo`` (``x`` clipped to the
+    gap: rounding at a touch)."""
+    dxh, dxl, vh, vl, _, _, _, _, _, _ = flight_at(P, st, t_end, t_end_lo)
+    xh, xl = dd.add(st[q.X0], st[q.X0LO], dxh, dxl)
+    return min(max(xh + xl, P[p.L]), P[p.R]), vh + vl
 
 
-def at_event(P, sub, code, t_hi, t_lo):
-    """Snap each accepted event of ``sub`` (codes ``kernel.IMPACT`` / ``kernel.VZERO``)
-    onto the exact event in long double, from the float64 root ``t_hi + t_lo``.
-
-    With ``g = D0 - s dx`` the distance to the wall ahead (the segment's ``D0 = s (W -
-    X0)``: exact to relative rounding even where ``X0`` is a rounded position next to a
-    wall, as in chatter), ``u = s v`` the speed towards it and ``a = s x''``, the local
-    model ``g(d) = g - u d - a d^2/2`` gives the impact at ``d = 2 g / (u + sqrt(u^2 + 2
-    a g))`` (when that root exists) and the velocity zero at ``d = -u / a``.  Near a
-    tangency (a turning point within float64 noise of a wall) the float64 search cannot
-    tell the two apart; the long-double model can, and the event changes kind when:
-    an impact whose wall is not reached (``u^2 + 2 a g < 0``) is the velocity zero
-    before it; a velocity zero beyond which the wall lies (the impact root comes first)
-    is that impact.  Steps are taken up to ``P.d_acc`` (where the cubic term of the
-    flight is below float64 rounding) and repeated once from the new time where they
-    were not tiny (the model then errs by ``O(d^6)``).
-
-    Returns float64 ``(code, x, dx, v, t_hi, t_lo, (x_lo, v_lo))`` at the refined time:
-    ``x = W`` for an impact, ``v = 0`` for a velocity zero; ``dx = x - X0`` rounded on its
-    own (a small displacement keeps its relative accuracy: the kernel's ``D0`` is formed
-    from it); ``x_lo, v_lo`` the long-double state's residuals after rounding ``x, v``
-    to float64 (the next segment starts at ``X0 + X0LO, V0 + V0LO``: a chain of impacts
-    then carries no float64 rounding of ``v`` from one to the next)."""
-    sn0, cs0 = _start_trig(P, sub)
-    dx, v, acc = _flight(P, sub, t_hi, t_lo, (sn0, cs0))
-    code, delta = _step(P, sub, code, dx, v, acc)
-    again = np.abs(delta) > 1e-12 * (1.0 + np.abs(t_hi))
-    t_hi, t_lo = _add(t_hi, t_lo, delta)
-    if again.any():
-        part = sub[:, again]
-        dx2, v2, acc2 = _flight(P, part, t_hi[again], t_lo[again], (sn0[again], cs0[again]))
-        _, d2 = _step(P, part, code[again], dx2, v2, acc2, convert=False)
-        dx[again], v[again], acc[again], delta[again] = dx2, v2, acc2, d2
-        t_hi[again], t_lo[again] = _add(t_hi[again], t_lo[again], d2)
-    imp = code == k.IMPACT
-    s = sub[k.S]
-    dx_new = np.where(imp, s * L(sub[k.D0]), dx + v * delta + (acc * delta) * (delta / 2))
-    v_new = np.where(imp, v + acc * delta, L(0))
-    W = np.where(s > 0, P.r, P.l)
-    x_wide = np.where(imp, L(W), L(sub[k.X0]) + (L(sub[k.X0LO]) + dx_new))
-    x = np.clip(x_wide.astype(np.float64), P.l, P.r)
-    v = v_new.astype(np.float64)
-    x_lo = np.where((x > P.l) & (x < P.r), (x_wide - L(x)).astype(np.float64), 0.0)
-    v_lo = (v_new - L(v)).astype(np.float64)
-    return code, x, dx_new.astype(np.float64), v, t_hi, t_lo, (x_lo, v_lo)
-
-
-def _step(P, sub, code, dx, v, acc, convert=True):
-    """``(code, d)``: the event kind after the long-double check (``convert``) and the
-    step ``d`` onto it (0 where it would exceed ``P.d_acc``: a tangency the model cannot
-    resolve keeps the float64 root)."""
-    s = sub[k.S]
-    g = L(sub[k.D0]) - s * dx
-    u, a = s * v, s * acc
-    with np.errstate(divide="ignore", invalid="ignore"):
-        disc = u * u + (a + a) * g
-        den = u + np.sqrt(np.maximum(disc, L(0)))
-        hits = (disc >= 0) & (den > 0)
-        d_imp = np.where(hits, (g + g) / den, L(np.inf))
-        d_v = -v / acc
-    ok_imp = np.abs(d_imp) <= P.d_acc
-    ok_v = np.isfinite(d_v) & (np.abs(d_v) <= P.d_acc)
-    imp = code == k.IMPACT
+@kernel(inline=True)
+def _step(P, st, code, dxh, dxl, vh, vl, ah, al, convert):
+    """``(code, d)``: the event kind after the double-double tangency check (``convert``)
+    and the step ``d`` onto it (0 where it would exceed ``d_acc``: a tangency the model
+    cannot resolve keeps the float64 root)."""
+    s = st[q.S]
+    gh, gl = dd.add_d(-s * dxh, -s * dxl, st[q.D0])
+    gh, gl = dd.norm(gh, gl)
+    uh, ul = s * vh, s * vl
+    a = s * ah
+    d_acc = bounds(P, abs(st[q.V0]))[4]
+    disc = uh * uh + 2.0 * a * gh
+    if abs(disc) <= 1e-6 * uh * uh:          # near a tangency: the sign in double-double
+        u2h, u2l = dd.mul(uh, ul, uh, ul)
+        agh, agl = dd.mul(a, s * al, gh, gl)
+        disc = dd.add(u2h, u2l, 2.0 * agh, 2.0 * agl)[0]
+    den = uh + math.sqrt(max(disc, 0.0))
+    hits = disc >= 0.0 and den > 0.0
+    d_imp = (gh + gh) / den if hits else math.inf
+    d_v = -vh / ah if ah != 0.0 else math.inf
+    ok_imp = abs(d_imp) <= d_acc
+    ok_v = abs(d_v) <= d_acc
     if convert:
-        to_v = imp & ~hits & (g > 0) & (a < 0) & ok_v
-        to_imp = (code == k.VZERO) & hits & (a < 0) & ok_imp & (d_imp <= d_v)
-        code = np.where(to_v, k.VZERO, np.where(to_imp, k.IMPACT, code))
-        imp = code == k.IMPACT
-    delta = np.where(imp, np.where(ok_imp, d_imp, L(0)), np.where(ok_v, d_v, L(0)))
-    return code, delta
+        if code == q.IMPACT and not hits and gh > 0.0 and a < 0.0 and ok_v:
+            code = q.VZERO
+        elif code == q.VZERO and hits and a < 0.0 and ok_imp and d_imp <= d_v:
+            code = q.IMPACT
+    if code == q.IMPACT:
+        return code, (d_imp if ok_imp else 0.0)
+    return code, (d_v if ok_v else 0.0)
 
 
-def _add(t_hi, t_lo, delta):
-    """The double-double time ``t_hi + t_lo + delta`` (``delta`` in long double)."""
-    d64 = delta.astype(np.float64)
-    hi, lo = two_sum(t_hi, d64)
-    return hi, lo + (t_lo + (delta - L(d64)).astype(np.float64))
+@kernel
+def at_event(P, st, code, t_hi, t_lo):
+    """Snap an accepted event (``IMPACT`` / ``VZERO``) at the float64 root ``t_hi + t_lo``
+    onto the exact event (module docstring).  Returns ``(code, t_hi, t_lo, xh, xl, vh, vl,
+    snh, snl, csh, csl)``: the refined double-double time, the state there (``x = W`` and
+    ``v`` the velocity before an impact; ``v = 0`` at a velocity zero) and the trig of the
+    phase there, all double-doubles."""
+    dxh, dxl, vh, vl, ah, al, snh, snl, csh, csl = flight_at(P, st, t_hi, t_lo)
+    code, delta = _step(P, st, code, dxh, dxl, vh, vl, ah, al, True)
+    t_hi, t_lo = dd.add_d(t_hi, t_lo, delta)
+    if abs(delta) > 1e-12 * (1.0 + abs(t_hi)):
+        dxh, dxl, vh, vl, ah, al, snh, snl, csh, csl = flight_at(P, st, t_hi, t_lo)
+        delta = _step(P, st, code, dxh, dxl, vh, vl, ah, al, False)[1]
+        t_hi, t_lo = dd.add_d(t_hi, t_lo, delta)
+    # the trig moved by z = w delta (|z| <= w d_acc ~ 1e-5: the omitted z^4/24 < 1e-21)
+    z = P[p.W] * delta
+    c1, s1 = -0.5 * z * z, z - z * z * z / 6.0
+    snh, snl, csh, csl = (*dd.add_d(snh, snl, snh * c1 + csh * s1),
+                          *dd.add_d(csh, csl, csh * c1 - snh * s1))
+    s = st[q.S]
+    if code == q.IMPACT:
+        vh, vl = dd.add_d(vh, vl, ah * delta)
+        xh, xl = (P[p.R] if s > 0.0 else P[p.L]), 0.0
+    else:
+        a, b = dd.mul_d(vh, vl, delta)
+        dxh, dxl = dd.add(dxh, dxl, a, b + 0.5 * ah * delta * delta)
+        xh, xl = dd.add(st[q.X0], st[q.X0LO], dxh, dxl)
+        if not P[p.L] < xh < P[p.R]:
+            xh, xl = min(max(xh, P[p.L]), P[p.R]), 0.0
+        vh, vl = 0.0, 0.0
+    return code, t_hi, t_lo, xh, xl, vh, vl, snh, snl, csh, csl
