@@ -14,16 +14,32 @@ from functools import lru_cache
 
 import mpmath
 
-from reference.integrator import EventLog, integrate
+from reference.integrator import MAX_EVENTS, EventLog, integrate
 from reference.jacobian import product_of_table1
 from reference.model import GUARD_DIGITS, Model
 from reference.scene import Scene
 
 
+#: the largest precision a call accepts: an event's cost grows like dps^1.7 (measured, six
+#: events of the narrow scene: 0.44 s at 10000 digits, 3.5 s at 30000, 25 s at 100000), so
+#: above this a chatter run or a busy period takes minutes
+MAX_DPS = 10000
+
+
 def check_dps(dps):
-    """``dps`` must be an int >= 15."""
-    if isinstance(dps, bool) or not isinstance(dps, int) or dps < 15:
-        raise ValueError(f"dps must be an integer >= 15 (decimal digits), got {dps!r}")
+    """``dps`` must be an int in ``[15, MAX_DPS]``."""
+    if isinstance(dps, bool) or not isinstance(dps, int) or not 15 <= dps <= MAX_DPS:
+        raise ValueError(f"dps must be an integer >= 15 (decimal digits) and <= {MAX_DPS} (an "
+                         f"event costs seconds above it), got {dps!r}")
+
+
+def check_count(name, value, low):
+    """An integer argument ``>= low`` (``TypeError`` for a non-integer type)."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError(f"{name} must be an integer >= {low}, got {value!r}")
+    if value < low:
+        raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
+    return value
 
 
 def to_mpf(name, value):
@@ -54,7 +70,7 @@ def _state(model, x, v):
 
 def _check_scene(scene):
     if not isinstance(scene, Scene):
-        raise ValueError(f"scene must be a reference.Scene, got {type(scene).__name__}")
+        raise TypeError(f"scene must be a reference.Scene, got {type(scene).__name__}")
 
 
 @lru_cache(maxsize=64)
@@ -72,23 +88,27 @@ def _rounded(dps, *values):
         return tuple(+value for value in values)
 
 
-def stroboscopic_map(scene, x, v, *, periods=1, dps=50):
-    """``Phi^periods(x, v)``: the state at ``t = periods T`` from ``(x, v)`` at ``t = 0``.
+def stroboscopic_map(scene, x, v, *, periods=1, dps=50, max_events=MAX_EVENTS):
+    """``Phi^periods(x, v)``: the state at ``t = periods T`` from ``(x, v)`` at ``t = 0``;
+    ``periods = 0`` is the identity (as in ``fast``).
 
-    Returns ``(x, v)`` as mpf rounded to ``dps`` digits.
+    Returns ``(x, v)`` as mpf rounded to ``dps`` digits.  ``max_events`` bounds the events
+    of the call (``RuntimeError`` beyond it).
     """
     _check_scene(scene)
     check_dps(dps)
-    if isinstance(periods, bool) or not isinstance(periods, int) or periods < 1:
-        raise ValueError(f"periods must be a positive int (>= 1), got {periods!r}")
+    check_count("periods", periods, 0)
+    check_count("max_events", max_events, 1)
     with mpmath.workdps(dps + GUARD_DIGITS):
         model = _model_here(scene)
         x, v = _state(model, x, v)
-        log = integrate(model, mpmath.mpf(0), x, v, periods * model.T)
+        if periods == 0:
+            return _rounded(dps, x, v)
+        log = integrate(model, mpmath.mpf(0), x, v, periods * model.T, max_events)
         return _rounded(dps, log.x_end, log.v_end)
 
 
-def trajectory(scene, x, v, t_end, *, t0=0, dps=50) -> EventLog:
+def trajectory(scene, x, v, t_end, *, t0=0, dps=50, max_events=MAX_EVENTS) -> EventLog:
     """The event log of the motion from ``(x, v)`` at ``t0`` to ``t_end >= t0``.
 
     A list of ``Event`` (see ``reference.integrator``), values rounded to ``dps`` digits;
@@ -96,13 +116,14 @@ def trajectory(scene, x, v, t_end, *, t0=0, dps=50) -> EventLog:
     """
     _check_scene(scene)
     check_dps(dps)
+    check_count("max_events", max_events, 1)
     with mpmath.workdps(dps + GUARD_DIGITS):
         model = _model_here(scene)
         x, v = _state(model, x, v)
         t0, t_end = to_mpf("t0", t0), to_mpf("t_end", t_end)
         if t_end < t0:
             raise ValueError(f"t_end must be >= t0 (integration runs forward), got t0={t0}, t_end={t_end}")
-        log = integrate(model, t0, x, v, t_end)
+        log = integrate(model, t0, x, v, t_end, max_events)
         return _round_log(log, dps)
 
 
@@ -117,7 +138,7 @@ def _round_log(log, dps):
     return out
 
 
-def jacobian(scene, x, v, *, dps=50):
+def jacobian(scene, x, v, *, dps=50, max_events=MAX_EVENTS):
     """``Phi'(x, v)`` over ``[0, T]``: the ordered product of the paper's Table 1 matrices.
 
     Returned as a list of lists of mpf (``J[i][j]``), rounded to ``dps`` digits.  The
@@ -127,10 +148,11 @@ def jacobian(scene, x, v, *, dps=50):
     """
     _check_scene(scene)
     check_dps(dps)
+    check_count("max_events", max_events, 1)
     with mpmath.workdps(dps + GUARD_DIGITS):
         model = _model_here(scene)
         x, v = _state(model, x, v)
-        log = integrate(model, mpmath.mpf(0), x, v, model.T)
+        log = integrate(model, mpmath.mpf(0), x, v, model.T, max_events)
         J = product_of_table1(model, log)
         with mpmath.workdps(dps):
             return [[+J[0][0], +J[0][1]], [+J[1][0], +J[1][1]]]

@@ -11,7 +11,7 @@ from tests.strategies import REFERENCE_SCENES
 NARROW = REFERENCE_SCENES["narrow_f0005"]
 
 
-@pytest.mark.parametrize("dps", [14, 0, -3, 15.0, "50", True, None])
+@pytest.mark.parametrize("dps", [14, 0, -3, 15.0, "50", True, None, 10001])
 def test_bad_dps(dps):
     for call in (lambda: reference.stroboscopic_map(NARROW, "0.3", "0.5", dps=dps),
                  lambda: reference.jacobian(NARROW, "0.3", "0.5", dps=dps),
@@ -20,10 +20,38 @@ def test_bad_dps(dps):
             call()
 
 
-@pytest.mark.parametrize("periods", [0, -1, 1.0, "2", True, None])
-def test_bad_periods(periods):
-    with pytest.raises(ValueError, match=r"periods must be a positive int"):
+@pytest.mark.parametrize("periods, error", [(-1, ValueError), (1.0, TypeError), ("2", TypeError),
+                                           (True, TypeError), (None, TypeError)])
+def test_bad_periods(periods, error):
+    with pytest.raises(error, match=r"periods must be an integer >= 0"):
         reference.stroboscopic_map(NARROW, "0.3", "0.5", periods=periods)
+
+
+def test_zero_periods_is_the_identity_as_in_fast():
+    """``periods = 0`` returns the start, rounded to ``dps`` (``fast`` does the same)."""
+    for dps, x0, v0 in ((20, "0.3", "-0.5"), (30, "0.1", "1e-25")):
+        x, v = reference.stroboscopic_map(NARROW, x0, v0, periods=0, dps=dps)
+        with mpmath.workdps(dps):
+            assert (x, v) == (mpmath.mpf(x0), mpmath.mpf(v0))
+
+
+@pytest.mark.parametrize("max_events, error", [(0, ValueError), (-5, ValueError),
+                                               (2.5, TypeError), (None, TypeError)])
+def test_bad_event_budget(max_events, error):
+    for call in (lambda: reference.stroboscopic_map(NARROW, "0.3", "0.5", max_events=max_events),
+                 lambda: reference.jacobian(NARROW, "0.3", "0.5", max_events=max_events),
+                 lambda: reference.trajectory(NARROW, "0.3", "0.5", 1, max_events=max_events)):
+        with pytest.raises(error, match=r"max_events must be an integer >= 1"):
+            call()
+
+
+def test_event_budget_stops_a_state_that_needs_many_impacts():
+    """A gap of 1e-9 with v = 1: ~6e9 impacts per period; the budget stops it at once,
+    naming the budget, the events logged and the state."""
+    tiny = Scene(F=1, f=0, omega=1, l=0, r="1e-9")
+    with pytest.raises(RuntimeError, match=r"more than max_events = 100 events .*100 logged\) "
+                                           r".*\(t, x, v, mode\) = \("):
+        reference.stroboscopic_map(tiny, "5e-10", "1", dps=20, max_events=100)
 
 
 @pytest.mark.parametrize("x", ["-0.0000001", "0.8000001", 0.8, -1e-300, "1e9"])
@@ -52,7 +80,7 @@ def test_bad_times_and_scene():
         reference.trajectory(NARROW, "0.3", "0.5", float("inf"))
     with pytest.raises(ValueError, match=r"t0 must be"):
         reference.trajectory(NARROW, "0.3", "0.5", 1, t0="x")
-    with pytest.raises(ValueError, match=r"scene must be a reference.Scene"):
+    with pytest.raises(TypeError, match=r"scene must be a reference.Scene, got dict"):
         reference.stroboscopic_map({"F": 1}, "0.3", "0.5")
 
 

@@ -16,7 +16,6 @@ from mpmath import mpf
 import reference
 from cross_check.tolerances import tol
 from reference import Scene, chatter
-from reference import integrator as integrator_module
 from reference.model import Model
 from tests.strategies import chattering_orbits
 
@@ -106,13 +105,12 @@ def test_run_cap_raises_with_the_state(monkeypatch):
         reference.trajectory(scene, "1", "0.002", "1.5", dps=30)
 
 
-def test_elastic_micro_bouncing_hits_the_event_cap_clearly(monkeypatch):
+def test_elastic_micro_bouncing_hits_the_event_budget_clearly():
     """f = 0, e = 1 at a wall with speed 1e-3 into it: ~500 genuine impacts (no
-    accumulation); a cap below that raises naming the cap and the state."""
-    monkeypatch.setattr(integrator_module, "MAX_EVENTS", 50)
+    accumulation); a budget below that raises naming the budget and the state."""
     scene = Scene(F=1, f=0, omega=1, l=0, r=20)
-    with pytest.raises(RuntimeError, match=r"MAX_EVENTS = 50 .*\(t, x, v, mode\) = \("):
-        reference.trajectory(scene, "20", "0.001", "1.5", dps=20)
+    with pytest.raises(RuntimeError, match=r"max_events = 50 .*\(t, x, v, mode\) = \("):
+        reference.trajectory(scene, "20", "0.001", "1.5", dps=20, max_events=50)
 
 
 def test_root_iteration_bound_raises(monkeypatch):
