@@ -1,8 +1,9 @@
 """Only what the scene calls for: which code paths each scene takes (issue 6).
 
-A ``sys.setprofile`` hook records every Python function of ``reference`` (and of ``fast``,
-and of mpmath's ODE module) that runs while a scene is integrated; the assertions say
-which paths a scene must reach and which it must never reach:
+A ``sys.setprofile`` hook records every Python function of ``reference`` (and of mpmath's
+ODE module) that runs while a scene is integrated; ``fast``'s compiled loop records the code
+paths it takes as bits.  The assertions say which paths a scene must reach and which it
+must never reach:
 
 * frictionless, elastic, undamped: no stick/turn logic, no chatter acceleration, no damped
   or Taylor flight;
@@ -18,12 +19,12 @@ import sys
 import numpy as np
 import pytest
 
-import fast
 import reference
+from fast import api, batch, state
 from reference import Scene
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-WATCHED = {os.path.join(ROOT, "reference"): "reference", os.path.join(ROOT, "fast"): "fast"}
+WATCHED = {os.path.join(ROOT, "reference"): "reference"}
 ODES = os.path.join(os.path.dirname(sys.modules["mpmath"].__file__), "calculus", "odes.py")
 
 ELASTIC = Scene(F=1, f=0, omega=1, l=0, r="0.8")
@@ -78,15 +79,6 @@ def reference_paths(name):
                 reference.trajectory(scene, x, v, 2 * scene.period, dps=20)
         _CACHE["reference", name] = _record(run)
     return _CACHE["reference", name]
-
-
-def fast_paths(name):
-    if ("fast", name) not in _CACHE:
-        scene, states = RUNS[name]
-        x = np.array([float(s[0]) for s in states])
-        v = np.array([float(s[1]) for s in states])
-        _CACHE["fast", name] = _record(lambda: fast.stroboscopic_map(scene, x, v, periods=2))
-    return _CACHE["fast", name]
 
 
 def reached(paths, *names):
@@ -146,38 +138,55 @@ def test_reference_position_forcing_reaches_taylor_and_only_it():
         assert not reached_module(reference_paths(name), "reference.taylor"), name
 
 
-# --- fast: the same proof on its public entry point (its own module structure) ----------
-FAST_STICK = ("fast.events_proc:_stick", "fast.modes:stick_exit")
-FAST_CHATTER = ("fast.events_proc:_chatter", "fast.modes:chatter_tail")
+# --- fast: the same proof on its compiled loop ---------------------------------------------
+# The compiled loop records, per state, the code paths it took (``fast.state.PATH_*``); the
+# engine is chosen per scene (``fast.api._engine``: the numerical flights of ``fast.ode``
+# only under position forcing).
+
+
+def fast_paths(name):
+    """``(engine name, set of path names)`` of the RUNS of ``name`` over two periods."""
+    if ("fast", name) not in _CACHE:
+        scene, states = RUNS[name]
+        x = np.array([float(s[0]) for s in states])
+        v = np.array([float(s[1]) for s in states])
+        engine, P = api._engine(scene)
+        bits = 0
+        for _ in range(2):
+            res = batch.run(engine, P, x, v, P[engine.p.T], P[engine.p.T_LO],
+                                 max_events=10_000)
+            bits |= int(np.bitwise_or.reduce(res.paths))
+            x, v = res.x, res.v
+        names = {n for b, n in state.PATH_NAMES.items() if bits & b}
+        _CACHE["fast", name] = (engine.__name__, names)
+    return _CACHE["fast", name]
 
 
 def test_fast_elastic_frictionless_undamped_takes_the_base_path_only():
-    paths = fast_paths("elastic")
-    assert reached(paths, "fast.kernel:run")
-    assert not reached(paths, *FAST_STICK, *FAST_CHATTER)
-    assert not reached_module(paths, "fast.ode")
+    engine, paths = fast_paths("elastic")        # two of its states rest on a wall at t = 0
+    assert engine == "fast.loop"
+    assert not paths & {"friction", "chatter", "damped flight", "restitution"}, paths
 
 
 def test_fast_friction_reaches_stick_logic():
-    paths = fast_paths("sticking")
-    assert reached(paths, *FAST_STICK) == set(FAST_STICK)
-    assert not reached_module(paths, "fast.ode")
+    engine, paths = fast_paths("sticking")
+    assert engine == "fast.loop" and "friction" in paths
+    assert not paths & {"chatter", "damped flight", "restitution"}, paths
 
 
 def test_fast_restitution_reaches_chatter_tail():
-    paths = fast_paths("restitution")
-    assert reached(paths, *FAST_CHATTER) == set(FAST_CHATTER)
-    assert not reached(paths, *FAST_STICK)
-    assert not reached_module(paths, "fast.ode")
+    engine, paths = fast_paths("restitution")
+    assert engine == "fast.loop" and {"chatter", "restitution"} <= paths
+    assert "friction" not in paths and "damped flight" not in paths, paths
 
 
 def test_fast_damping_is_closed_form_without_an_ode_solver():
-    """Damping keeps flights closed-form: no numerical ODE solver on a damped scene's path."""
-    paths = fast_paths("damped")
-    assert not reached_module(paths, "fast.ode")
+    """Damping keeps flights closed-form: the damped flight, never fast.ode's solver."""
+    engine, paths = fast_paths("damped")
+    assert engine == "fast.loop" and "damped flight" in paths
 
 
-def test_fast_position_forcing_reaches_the_ode_path_and_only_it():
-    assert reached_module(fast_paths("xpot"), "fast.ode")
-    for name in ("elastic", "sticking", "restitution"):
-        assert not reached_module(fast_paths(name), "fast.ode"), name
+def test_fast_position_forcing_takes_the_ode_engine_and_only_it():
+    assert fast_paths("xpot")[0] == "fast.ode"
+    for name in ("elastic", "sticking", "restitution", "damped"):
+        assert fast_paths(name)[0] == "fast.loop", name

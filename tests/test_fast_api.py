@@ -1,10 +1,14 @@
-"""fast: the public API (shapes, validation, effects, determinism, batch independence)."""
+"""fast: the public API (shapes, validation, effects, determinism, batch independence,
+work budgets)."""
+import math
+
 import numpy as np
 import pytest
 
 import fast
-import fast.api as api
-from fast.params import Params
+import reference
+from fast import api, batch, loop, ode
+from fast.params import E, params
 from reference.scene import Scene
 
 NARROW = Scene(F=1, f="0.005", omega=1, l=0, r="0.8")      # paper fig. narrow-with-friction
@@ -57,27 +61,74 @@ def test_non_finite_raises(bad):
         fast.zero_velocity(NARROW, np.array([bad]), 0.0)
 
 
-def test_bad_periods():
-    with pytest.raises(ValueError, match="periods"):
-        fast.stroboscopic_map(NARROW, 0.4, 0.0, periods=-1)
-    with pytest.raises(ValueError, match="periods"):
-        fast.stroboscopic_map(NARROW, 0.4, 0.0, periods=1.5)
+@pytest.mark.parametrize("periods, error", [(-1, ValueError), (1.5, ValueError),
+                                           (None, TypeError), ("2", TypeError), (True, TypeError)])
+def test_bad_periods(periods, error):
+    with pytest.raises(error, match="periods must be an integer >= 0"):
+        fast.stroboscopic_map(NARROW, 0.4, 0.0, periods=periods)
+
+
+def test_zero_periods_is_the_identity_in_both_engines():
+    """``periods = 0`` is accepted by ``fast`` and ``reference`` alike: the start state."""
+    X, V = fast.stroboscopic_map(NARROW, np.array([0.3, 0.7]), np.array([-0.5, 1e-25]), periods=0)
+    assert np.array_equal(X, [0.3, 0.7]) and np.array_equal(V, [-0.5, 1e-25])
+    xr, vr = reference.stroboscopic_map(NARROW, 0.3, -0.5, periods=0, dps=20)
+    assert (float(xr), float(vr)) == (0.3, -0.5)
+
+
+ENTRY_POINTS = {
+    "stroboscopic_map": lambda s, x, v: fast.stroboscopic_map(s, x, v),
+    "jacobian": lambda s, x, v: fast.jacobian(s, x, v),
+    "map_and_jacobian": lambda s, x, v: fast.map_and_jacobian(s, x, v),
+    "orbit": lambda s, x, v: fast.orbit(s, x, v, 2),
+    "zero_velocity": lambda s, x, v: fast.zero_velocity(s, x, v),
+    "flow": lambda s, x, v: fast.flow(s, x, v, 1.0),
+    "events": lambda s, x, v: fast.events(s, x, v),
+}
+
+
+@pytest.mark.parametrize("entry", sorted(ENTRY_POINTS))
+@pytest.mark.parametrize("scene", [{"F": 1}, "narrow", None, NARROW.floats()])
+def test_scene_must_be_a_scene(entry, scene):
+    with pytest.raises(TypeError, match=r"scene must be a reference.scene.Scene, got"):
+        ENTRY_POINTS[entry](scene, 0.4, 0.1)
+
+
+@pytest.mark.parametrize("entry", sorted(ENTRY_POINTS))
+@pytest.mark.parametrize("which, bad", [
+    ("x", np.array([0.4 + 0.1j])), ("v", 0.1 + 0j), ("x", np.array(["0.4"])),
+    ("v", np.array([0.1], dtype=object)), ("v", np.array([True])), ("x", "0.4")])
+def test_complex_object_string_and_bool_states_are_type_errors(entry, which, bad):
+    """No silent cast (numpy would drop an imaginary part with only a warning)."""
+    args = {"x": 0.4, "v": 0.1, which: bad}
+    with pytest.raises(TypeError, match=rf"fast: {which} must be real numbers"):
+        ENTRY_POINTS[entry](NARROW, args["x"], args["v"])
+
+
+@pytest.mark.parametrize("bad, error", [(0, ValueError), (-1, ValueError), (2.5, ValueError),
+                                        (None, TypeError), ("10", TypeError)])
+def test_bad_event_budget(bad, error):
+    with pytest.raises(error, match=r"max_events must be an integer >= 1"):
+        fast.stroboscopic_map(NARROW, 0.4, 0.1, max_events=bad)
+
+
+@pytest.mark.parametrize("bad, error", [(-1.0, ValueError), (math.inf, ValueError),
+                                        (math.nan, ValueError), (None, TypeError)])
+def test_bad_end_time(bad, error):
+    with pytest.raises(error, match=r"t_end must be"):
+        fast.flow(NARROW, 0.4, 0.1, bad)
 
 
 def test_only_position_forcing_routes_to_ode():
-    """Damping has closed-form float64 flights (fast.flight); only position-dependent
-    forcing goes to fast.ode's numerical flights (whose event logs are not available)."""
-    from fast.ode import OdeParams
-
-    assert type(Params.from_scene(NARROW.replace(damping="0.1"))) is Params
-    xpot = NARROW.replace(wavenumber="pi/2")
-    assert isinstance(Params.from_scene(xpot), OdeParams)
-    with pytest.raises(NotImplementedError, match="event logs"):
-        fast.events(xpot, 0.4, 0.1)
+    """Damping and restitution keep closed-form flights (``fast.loop``); only position
+    dependent forcing goes to the numerical flights of ``fast.ode``."""
+    assert api._engine(NARROW.replace(damping="0.1"))[0] is loop
+    assert api._engine(NARROW.replace(restitution="0.9"))[0] is loop
+    assert api._engine(NARROW.replace(wavenumber="pi/2"))[0] is ode
 
 
 def test_restitution_is_closed_form():
-    assert Params.from_scene(NARROW.replace(restitution="0.9")).e == 0.9
+    assert params(NARROW.replace(restitution="0.9"))[E] == 0.9
 
 
 @pytest.mark.parametrize("scene, vmax", [(NARROW, 2.0), (TWO_PI, 15.0)])
@@ -93,13 +144,14 @@ def test_batch_independence_and_determinism(scene, vmax, monkeypatch):
     for i in (0, 17, 299):
         Xi, Vi = fast.stroboscopic_map(scene, x[i:i + 1], v[i:i + 1])
         assert Xi[0] == X[i] and Vi[0] == V[i]
-    monkeypatch.setattr(api, "CHUNK", 7)
-    monkeypatch.setattr(api, "THREADS", 2)
-    Xc, Vc = fast.stroboscopic_map(scene, x, v)
-    assert np.array_equal(Xc, X) and np.array_equal(Vc, V)
-    Jc = fast.jacobian(scene, x, v)
-    monkeypatch.setattr(api, "CHUNK", 4096)
-    assert np.array_equal(Jc, fast.jacobian(scene, x, v))
+    J1 = fast.jacobian(scene, x, v)
+    for threads, chunks, least in ((2, 37, 2), (3, 1, 1), (1, 8, 1)):
+        monkeypatch.setattr(batch, "THREADS", threads)
+        monkeypatch.setattr(batch, "CHUNKS_PER_THREAD", chunks)
+        monkeypatch.setattr(batch, "MIN_THREADED", least)
+        Xc, Vc = fast.stroboscopic_map(scene, x, v)
+        assert np.array_equal(Xc, X) and np.array_equal(Vc, V), threads
+        assert np.array_equal(fast.jacobian(scene, x, v), J1), threads
 
 
 def test_events_log_consistent_with_map():
@@ -123,13 +175,34 @@ def test_events_log_consistent_with_map():
     assert np.array_equal(zv, [any(k != "impact" for k in log.kinds(i)) for i in range(x.size)])
 
 
-def test_loop_bound_raises_with_states(monkeypatch):
-    """Exceeding the per-segment round bound raises RuntimeError naming the states."""
-    from fast import kernel
+def test_event_budget_raises_naming_the_states_and_their_counts():
+    """A gap of 1e-9 with v = 1 needs ~6e9 impacts per period: the per-state budget stops
+    it, and the error names the states (index, start) and their event counts; the states
+    within the budget are not blamed."""
+    tiny = Scene(F=1, f="0.1", omega=1, l=0, r="1e-9")
+    x, v = np.array([5e-10, 5e-10, 5e-10]), np.array([1.0, 0.0, -2.0])
+    fast.stroboscopic_map(tiny, x[1:2], v[1:2], max_events=1000)   # at rest: chatter, contact
+    with pytest.raises(RuntimeError, match=r"fast: 2 state\(s\): more than max_events = 1000 "
+                                           r"events: state 0 \(x0=5e-10, v0=1.0, 1001 events\), "
+                                           r"state 2 \(x0=5e-10, v0=-2.0, 1001 events\)$"):
+        fast.stroboscopic_map(tiny, x, v, max_events=1000)
 
-    monkeypatch.setattr(kernel, "MAX_SEGMENT_ROUNDS", 1)
-    with pytest.raises(RuntimeError, match=r"state 0: t=.* x0=.* v0="):
-        fast.stroboscopic_map(NARROW, np.array([0.3]), np.array([0.5]))
+
+def test_many_impacts_are_just_work():
+    """v = 1e6 between walls 0.8 apart: 7.85e6 impacts in a period, within the default
+    budget.  Without forcing and friction the exact result is the triangle wave of the free
+    flight: x(T) = reflect(x0 + v0 T) in [0, R], |v(T)| = v0 (``fast.flow`` of one period
+    against that closed form; the impact times are exact to ~eps t each, so x(T) carries
+    ~7.85e6 rounding errors of ~1e-16 |v| dt = 1e-16 R: about 1e-9 at the worst)."""
+    free = Scene(F=0, f=0, omega=1, l=0, r="0.8")
+    x0, v0 = 0.3, 1e6
+    X, V = fast.stroboscopic_map(free, x0, v0)
+    R, T = 0.8, 2 * math.pi
+    u = math.fmod(x0 + math.fsum([v0 * T]), 2 * R)          # position on the unfolded circle
+    x_exact = u if u <= R else 2 * R - u
+    assert abs(V) == v0 and abs(X - x_exact) <= 1e-8, (X, x_exact)
+    Xf, Vf = fast.stroboscopic_map(NARROW, x0, v0)          # with forcing and friction
+    assert 0.0 <= Xf <= 0.8 and abs(abs(Vf) - v0) <= 2 * 1.0 + 0.005 * T
 
 
 def test_flow_matches_map_at_one_period():

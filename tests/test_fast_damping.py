@@ -15,7 +15,8 @@ import pytest
 import fast
 import reference
 from cross_check.tolerances import tol
-from fast.params import Params
+from fast import api, loop
+from fast import params as fp
 from reference.scene import Scene
 
 DAMPED = [
@@ -40,10 +41,11 @@ def _ref_jac(scene, x, v):
 
 
 def test_damped_scenes_are_closed_form():
-    """Damping alone never reaches fast.ode: Params (closed form) carries c, Pd, Qd."""
-    P = Params.from_scene(DAMPED[0][1])
-    assert type(P) is Params and P.damp == 0.3
-    assert math.isclose(P.Pd, 0.3 / 1.09, rel_tol=1e-15) and math.isclose(P.Qd, 1 / 1.09, rel_tol=1e-15)
+    """Damping alone never reaches fast.ode: the closed-form loop carries c, Pd, Qd."""
+    engine, P = api._engine(DAMPED[0][1])
+    assert engine is loop and P[fp.DAMP] == 0.3
+    assert math.isclose(P[fp.PD], 0.3 / 1.09, rel_tol=1e-15)
+    assert math.isclose(P[fp.QD], 1 / 1.09, rel_tol=1e-15)
 
 
 @pytest.mark.parametrize("name, scene, vmax", DAMPED, ids=[d[0] for d in DAMPED])
