@@ -23,7 +23,7 @@ from . import params as p
 from . import state as q
 from .flight import factors
 from .jit import kernel
-from .modes import chatter_state, chatter_tail, exit_time, stick_exit, wall_exit
+from .modes import chatter_state, chatter_tail, exit_time, slides, stick_exit, wall_exit
 
 EPS = 2.0 ** -52
 
@@ -147,7 +147,7 @@ def velocity_zero(P, st, t, tl, xh, xl, trig, t_end, jac, ev):
         start_segment(P, st, t, tl, xh, xl, 0.0, 0.0, rev, trig)
         return False
     took(st, q.PATH_FRICTION)
-    if s * A < -P[p.FF]:
+    if slides(P, -s, trig[2], trig[0]):           # s A < -f, and the reversed slide lasts
         record(ev, st, q.K_TURN, t, xh, 0.0, 0.0, 0)
         if jac:
             fac = (abs(A) - P[p.FF]) / (abs(A) + P[p.FF])

@@ -50,6 +50,7 @@ def _start(P, st, x, v, jac):
         st[k] = 0.0
     st[q.CAP] = cap
     st[q.TLAST] = -math.inf
+    st[q.P1], st[q.P2] = math.inf, math.inf
     s = 1.0 if v >= 0.0 else -1.0
     st[q.X0], st[q.V0], st[q.S], st[q.CS0] = x, v, s, 1.0
     st[q.D0] = P[p.R] - x if s > 0.0 else x - P[p.L]

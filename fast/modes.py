@@ -6,7 +6,7 @@ that no phase is reduced modulo 2 pi.  With ``c = f/F < 1`` and ``alpha = arccos
 * sticking (``|cos phi| <= c``) happens on ``[alpha, pi - alpha]`` (``sin phi >= 0``) and
   ``[pi + alpha, 2 pi - alpha]`` (``sin phi < 0``); it ends at ``pi - alpha`` (slip with
   ``s = -1``) or at ``2 pi - alpha`` (``s = +1``), or at once (``s = sgn cos phi``) when
-  ``|cos phi| > c`` already;
+  ``|cos phi| > c`` already and the slide lasts (``slides``);
 * contact at ``r`` holds while ``cos phi >= -c`` and ends at ``pi - alpha`` (``s = -1``);
   at ``l`` it holds while ``cos phi <= c`` and ends at ``-alpha`` (``s = +1``).
 
@@ -26,14 +26,31 @@ from .jit import kernel
 EPS = 2.0 ** -52
 
 
+@kernel(inline=True)
+def slides(P, s, cs, sn):
+    """Whether a flight of sign ``s`` leaving rest at the phase ``(cos, sin)`` slides: its
+    acceleration ``a = s F cos - f`` is positive and, where it falls (``a' = -s F w sin <
+    0``), lasts beyond the time resolution, ``a >= |a'| tau`` with ``tau = 64 eps T`` (the
+    slide ends after ``~a / |a'|``).  A shorter slide -- a turn or slip exactly at ``|A| = f``
+    while ``|A|`` falls -- lies below what float64 times resolve, and sticking follows it
+    at once: the particle sticks (the same rule decides turns, slips and releases, so no
+    zero-length loop of stick and slip can arise)."""
+    a = s * (P[p.F] * cs) - P[p.FF]
+    if not a > 0.0:
+        return False
+    a1 = -s * (P[p.F] * P[p.W]) * sn
+    return a1 >= 0.0 or a >= -a1 * (64 * EPS * P[p.T])
+
+
 @kernel
 def stick_exit(P, cs, sn):
     """Phase advance to the end of sticking and the new flight sign: ``(dphi, s)``."""
     c, sa = P[p.C], P[p.SA]
     if c >= 1.0:
         return math.inf, 1.0
-    if abs(P[p.F] * cs) > P[p.FF]:
-        return 0.0, (1.0 if cs > 0.0 else -1.0)
+    now = 1.0 if cs > 0.0 else -1.0
+    if slides(P, now, cs, sn):
+        return 0.0, now
     # boundary pi - alpha (cos -c, sin sa) or 2 pi - alpha (cos c, sin -sa)
     sgn = 1.0 if sn >= 0.0 else -1.0
     y = sgn * (sa * cs + c * sn)
@@ -47,7 +64,7 @@ def wall_exit(P, cs, sn, side):
     c, sa = P[p.C], P[p.SA]
     if c >= 1.0:
         return math.inf
-    if side * (P[p.F] * cs) < -P[p.FF]:
+    if slides(P, -side, cs, sn):
         return 0.0                                   # pulled off the wall at once
     # boundary at r: pi - alpha (cos -c, sin sa); at l: -alpha (cos c, sin -sa)
     y = side * (sa * cs + c * sn)

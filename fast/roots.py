@@ -25,10 +25,12 @@ For an event function ``g`` with known ``g, g', g''`` at a point ``b`` and bound
 (only with friction or forcing).  It jumps to predictions (speculative trials) and keeps a
 trial only when the backward windows at it reach back to the certified ends ``C1, C2`` of
 the last certified point, so no root is ever skipped; otherwise it retreats to the
-certified step.  A prediction that falls inside its own function's certified root-free
-interval is refuted and not tried (the quadratic model of ``v`` over a long flight often
-predicts a zero the certificate has just excluded).  Typical cost: 1-2 evaluations per
-impact, 2-3 per turn.
+certified step.  A predicted root that falls inside its own function's certified
+root-free interval (the quadratic model of ``v`` over a long flight often predicts a zero
+the certificate has just excluded) is replaced by that interval's end; after an overshoot
+the root is bracketed between the certified end and the trial.  A function whose
+certificate covers a trial is not analysed there again.  Typical cost: 1-2 evaluations
+per impact, 2-3 per turn.
 """
 from __future__ import annotations
 
@@ -105,13 +107,22 @@ def _outcome(b, pos, res, c_old):
     """An analysed function in ``plan``'s terms, ``res = analyze(...)``: ``(c, ok, p, acc,
     t, pos)`` -- its new certified end, whether its backward window reaches its old
     certified end ``c_old`` (a speculative trial skipped nothing), its next trial
-    candidate (a prediction inside its own root-free interval is refuted), the acceptance,
-    the predicted root and whether the function is positive at ``b``."""
+    candidate (the predicted root, or the end of the root-free interval where the model
+    predicts a root inside it: a function is analysed again only once a trial reaches its
+    certified end), the acceptance, the predicted root and whether the function is
+    positive at ``b``.  After an overshoot (``g(b) <= 0``) with a certified window, the root lies in
+    ``(c, b]`` with ``c = max(b - |g'|/M, c_old)``; a model prediction outside that bracket
+    (a quadratic model extrapolated far back) is replaced by the bracket's middle."""
     safe, est, acc, back = res
     lo = b - abs(back)
-    c = b + safe if pos else (b if math.isnan(lo) else lo)
     t = b + est
-    p = math.inf if (pos and (est <= 0.0 or t < c)) else t
+    if pos:                     # a predicted root inside the root-free interval: its end
+        c = b + safe
+        return c, lo <= c_old, (math.inf if est <= 0.0 else max(t, c)), acc, t, pos
+    if math.isnan(lo):
+        return b, False, t, acc, t, pos
+    c = max(lo, c_old)
+    p = t if c < t <= b else 0.5 * (c + b)
     return c, lo <= c_old, p, acc, t, pos
 
 
@@ -166,7 +177,8 @@ def plan(P, st, dx, v, cs, sn, t_end, tol):
         if margin > 1e-12 * (abs(st[q.V0]) + 2.0 * P[p.FW]):
             st[q.C2], st[q.P2], do2 = math.inf, math.inf, False
     r1 = (st[q.C1], True, st[q.P1], False, math.inf, True)
-    r2 = (math.inf if no_v else st[q.C2], True, st[q.P2], False, math.inf, True)
+    r2 = (math.inf, True, math.inf, False, math.inf, True) if no_v else (
+        st[q.C2], True, st[q.P2], False, math.inf, True)
     for _ in range(2):
         if do1:
             g1 = st[q.D0] - s * dx
@@ -180,6 +192,8 @@ def plan(P, st, dx, v, cs, sn, t_end, tol):
             d2 = max(a, 0.0) if fresh else a
             r2 = _outcome(b, g2 > 0.0 or fresh, analyze(g2, d2, a3, a4, M2, M2_3, t_end - b,
                                                         tol, n2, d_acc, fresh, spec), st[q.C2])
+            if fresh and not r2[0] > b:      # it cannot leave rest at float64 resolution
+                r2 = (b, True, b, True, b, True)
         # an accepted root beyond the other function's old certified end: analyse that
         # function here too (else the event would wait one round)
         do1 = not do1 and r2[3] and r2[4] > r1[0]
