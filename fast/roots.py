@@ -192,7 +192,7 @@ def plan(P, st, dx, v, cs, sn, t_end, tol):
             d2 = max(a, 0.0) if fresh else a
             r2 = _outcome(b, g2 > 0.0 or fresh, analyze(g2, d2, a3, a4, M2, M2_3, t_end - b,
                                                         tol, n2, d_acc, fresh, spec), st[q.C2])
-            if fresh and not r2[0] > b:      # it cannot leave rest at float64 resolution
+            if fresh and not r2[0] > b and b < t_end:    # it cannot leave rest in float64
                 r2 = (b, True, b, True, b, True)
         # an accepted root beyond the other function's old certified end: analyse that
         # function here too (else the event would wait one round)
