@@ -45,7 +45,7 @@ class Quality:
     name: str
 
 
-FULL = Quality(n_iter=400, grid=(14, 18), n_line=40, pixels=200, newton_seeds=(10, 14), name="full")
+FULL = Quality(n_iter=1000, grid=(30, 36), n_line=120, pixels=200, newton_seeds=(10, 14), name="full")
 QUICK = Quality(n_iter=80, grid=(5, 6), n_line=8, pixels=32, newton_seeds=(5, 6), name="quick")
 
 
