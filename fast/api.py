@@ -43,7 +43,7 @@ def _real_array(name, a):
     return arr.astype(np.float64, copy=False)
 
 
-def _validate(P, x, v):
+def _validate(engine, P, x, v):
     """Broadcast ``x, v`` to float64 arrays; finite, with ``l <= x <= r``."""
     x, v = np.broadcast_arrays(_real_array("x", x), _real_array("v", v))
     for name, a in (("x", x), ("v", v)):
@@ -51,7 +51,7 @@ def _validate(P, x, v):
         if bad.any():
             raise ValueError(f"fast: non-finite state: {_items(name, a, bad)} "
                              f"({int(bad.sum())} in all)")
-    l, r = float(P[loop.p.L]), float(P[loop.p.R])
+    l, r = float(P[engine.p.L]), float(P[engine.p.R])
     bad = (x < l) | (x > r)
     if bad.any():
         raise ValueError(f"fast: {_items('x', x, bad)} is outside the walls [{l!r}, {r!r}] "
@@ -76,7 +76,7 @@ def _count(name, value, *, low=0):
 
 def _setup(scene, x, v, max_events):
     engine, P = _engine(scene)
-    x, v = _validate(P, x, v)
+    x, v = _validate(engine, P, x, v)
     return engine, P, x, v, _count("max_events", max_events, low=1)
 
 
