@@ -90,25 +90,18 @@ def scene_agreement(name: str, plan: Plan) -> dict:
     X = np.array([c.float()[0] for c in cases])
     V = np.array([c.float()[1] for c in cases])
     phis, fail = compare.fast_safe(compare.fast_map, sc, X, V)
-    logged = name in scenes.LOGGED_SCENES
-    if logged:
-        f_evs, fail_e = compare.fast_safe(compare.fast_events, sc, X, V)
-        band = compare.band_mask(sc, X, V)
-    else:   # fast.ode (position forcing) gives Phi and Phi' but no event log: map only
-        f_evs, fail_e, band = [None] * len(cases), {}, np.zeros(len(cases), bool)
+    f_evs, fail_e = compare.fast_safe(compare.fast_events, sc, X, V)
+    band = compare.band_mask(sc, X, V)
     rows, raw = [], []
     for i, c in enumerate(cases):
         r_phi = compare.ref_map(sc, c, 1, REF_DPS)
-        if logged:
-            r_evs = compare.ref_events(sc, c, None, REF_DPS)
-            ca = compare.compare_case(c.name, r_evs, f_evs[i], r_phi, phis[i], scene=sc)
-            ca.in_band = bool(band[i])
-            rows.append(ca)
+        r_evs = compare.ref_events(sc, c, None, REF_DPS)
+        ca = compare.compare_case(c.name, r_evs, f_evs[i], r_phi, phis[i], scene=sc)
+        ca.in_band = bool(band[i])
+        rows.append(ca)
         if phis[i] is not None:
             raw.append(min(compare.digits(phis[i][0], r_phi[0]), compare.digits(phis[i][1], r_phi[1])))
-    out = compare.summarize(rows) if logged else {
-        "n": len(cases), "itinerary_share": None, "band": [], "mismatch_outside_band": [],
-        "event_time": Summary.of([]), "event_state": Summary.of([])}
+    out = compare.summarize(rows)
     out["failures"] = {cases[i].name: msg for i, msg in {**fail_e, **fail}.items()}
     ten = []
     for c in cases[:plan.n_ten]:
@@ -129,8 +122,7 @@ def _agreement_table(results: dict) -> list[str]:
         if s is None:
             lines.append(f"| `{name}` | FAILED (see Failures) |" + " |" * 8)
             continue
-        share = ("n/a (fast.ode logs no events)" if s["itinerary_share"] is None
-                 else f"{100 * s['itinerary_share']:.0f}%")
+        share = f"{100 * s['itinerary_share']:.0f}%"
         lines.append(f"| `{name}` | {s['n']} | {share} | {len(s['band'])} | "
                      f"{s['event_time']} | {s['event_state']} | {s['map_raw']} | {s['map10']} | "
                      f"{', '.join(s['mismatch_outside_band']) or '-'} | {len(s['failures']) or '-'} |")

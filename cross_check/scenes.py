@@ -73,10 +73,6 @@ SCENES: dict[str, Scene] = _build()
 #: The scenes of the paper's figures (the rest are hard parameter sets).
 FIGURE_SCENES = tuple(n for n in SCENES if n.startswith("fig:"))
 
-#: Scenes whose fast engine logs events (position forcing runs fast.ode's numerical flights,
-#: which give the map and the Jacobian but no event log): event-aware comparison applies.
-LOGGED_SCENES = tuple(n for n in SCENES if not SCENES[n].has("position_forcing"))
-
 #: A small representative subset for quick runs (one per figure family, plus friction).
 QUICK_SCENES = ("fig:narrow", "fig:narrow-with-friction", "fig:many:wide/f=0.3",
                 "fig:many:2pi/f=0.1", "fig:resonance/R=0.8932")

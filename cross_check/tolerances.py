@@ -201,7 +201,7 @@ TOLERANCES = {
             "and the flight matrix: measured ~1e-15 (order-8 local error (h Lambda)^9 with "
             "Lambda = max(w, k |v|, sqrt(F k)), h Lambda = 2 pi/96, plus ~1e2 ulp "
             "of rounding); 1e-13 is fast_one_period_max's budget for a flight.  Also the "
-            "period Jacobian of fast.ode.ode_map against differences of the reference map "
+            "period Jacobian of fast.ode's event loop against differences of the reference map "
             "(Table 1's event matrices are a few exact float products on top)"),
     "ode_event_residual": Tol(
         rtol=0.0, atol=1e-13,

@@ -136,7 +136,7 @@ def named_scene_states(draw, names=None, vmax_factor: float = 2.0):
     inside its gap (``x = l + u R``, ``u`` in ``[0.001, 0.999]``), ``|v| <= vmax_factor F/w``."""
     from cross_check import scenes as named
 
-    name = draw(st.sampled_from(sorted(names or set(named.FIGURE_SCENES) & set(named.LOGGED_SCENES))))
+    name = draw(st.sampled_from(sorted(names or set(named.FIGURE_SCENES))))
     sc = named.scene(name)
     l, r = sc.float("l"), sc.float("r")
     u = draw(st.floats(0.001, 0.999))

@@ -159,7 +159,7 @@ def test_compare_case_stops_scoring_at_the_first_itinerary_difference():
 
 
 # --- fast vs reference ----------------------------------------------------------------
-@pytest.mark.parametrize("name", [n for n in scenes.FIGURE_SCENES if n in scenes.LOGGED_SCENES])
+@pytest.mark.parametrize("name", list(scenes.FIGURE_SCENES))
 def test_fast_agrees_with_reference_on_the_papers_scenes(name):
     sc = scenes.scene(name)
     cases = scenes.sample_states(name, 8)
