@@ -13,7 +13,7 @@ caption.  Everything is computed on the float64 engine ``fast``:
 * ``Omega_dissip`` and ``det Phi'`` on a pixel grid (``fast.zero_velocity``,
   ``fast.jacobian``).
 
-Progress lines go to stderr; the figure set takes a few minutes (``--quick``: seconds).
+Progress lines go to stderr; the figure set takes about 35 s on two cores (``--quick``: seconds).
 """
 from __future__ import annotations
 
