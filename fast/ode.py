@@ -15,10 +15,11 @@ step (``|x''| <= F + f + c vmax``, ``|v''| <= F w + F k vmax + c amax``, ``vmax`
 minorant positive at ``theta = 1`` has no root.  Flagged steps are cut into ``SUBDIV``
 pieces of the dense output, each with the same test; a sign change is bracketed and
 polished by safeguarded Newton (bisection when Newton leaves the bracket); a piece
-without one whose test fails is searched for a close pair or a tangency by golden section
-for the minimum of ``g``: below ``-TANGENT_FLOOR`` (times the scale) the first root lies
-between the piece's start and the minimum; within the floor the minimum is the
-(tangential) root.
+without one whose test fails, and which rises above ``TANGENT_FLOOR`` (times the scale) at
+an end, is searched for a close pair or a tangency by golden section for the minimum of
+``g``: below minus the floor the first root lies between the piece's start and the
+minimum; within the floor the minimum is the (tangential) root.  (A piece flat at noise
+level -- a flight leaving rest under a force of rounding size -- has no dip to find.)
 
 The event loop: impacts (``v -> -e v``, Table 1's matrix with ``A = A(W, t*)``), turns
 (``s A < -f``) and sticking, wall contact, and the closed-form exit times of rest for the
@@ -172,6 +173,9 @@ def _first_root(P, s, wall, t, h, wk, n, which, M, g0, d0, floor):
         if not (g0 >= 0.0 and g0 + d0 * d - M * d * d / 2 > 0.0):
             if g1 <= 0.0:                             # a sign change: bracketed
                 return _newton_bisect(P, s, wall, t, h, wk, n, which, j * d, (j + 1) * d)
+            if not max(g0, g1) > floor:
+                g0, d0 = g1, d1                       # flat at noise level: no dip to find
+                continue
             th, gmin = _golden_min(P, s, wall, t, h, wk, n, which, j * d, (j + 1) * d)
             if th > 1e-6 and abs(gmin) <= floor:      # a tangential zero
                 return th
@@ -194,7 +198,8 @@ def _fly(P, st, wk, t_end, n, max_steps):
         t = st[q.TT]
         x, v = wk[dp.Y0], wk[dp.Y0 + 1]
         h = min(_step_len(P, abs(v)), t_end - t)
-        if not h > 0.0:
+        if not h > 4 * EPS * abs(t_end):                # what is left is below resolution
+            st[q.TT] = t_end
             return NO_EVENT, k
         gw, dgw = _g(P, s, wall, t, x, v, 0)
         gv, dgv = _g(P, s, wall, t, x, v, 1)
@@ -373,9 +378,9 @@ def _leave_rest(P, st, ev, mode, t, x, t_end):
 
 
 @kernel
-def _start(P, st, ev, x, v, jac):
-    """The state at ``t = 0``: ``(mode, t)`` after any event there (an impact into a wall, rest
-    on a wall, sticking; a frictionless rest just flies off with the force)."""
+def _start(P, st, ev, x, v, t_end, jac):
+    """The state at ``t = 0``: ``(mode, t, x, v)`` after any event there (an impact into a
+    wall, rest on a wall, sticking; a frictionless rest just flies off with the force)."""
     cap = st[q.CAP]
     for k in range(q.SIZE):
         st[k] = 0.0
@@ -383,28 +388,29 @@ def _start(P, st, ev, x, v, jac):
     st[q.J11], st[q.J22] = 1.0, 1.0
     st[q.S] = 1.0 if v >= 0.0 else -1.0
     if (x == P[R] and v > 0.0) or (x == P[L] and v < 0.0):
-        return _impact(P, st, ev, 0.0, v, math.inf, jac)
+        mode, t = _impact(P, st, ev, 0.0, v, t_end, jac)
+        return mode, t, x, (-P[E] * v if mode == FLIGHT else 0.0)
     if v != 0.0:
-        return FLIGHT, 0.0
+        return FLIGHT, 0.0, x, v
     st[q.ZV] = 1.0
     if x == P[R] or x == P[L]:
         side = 1.0 if x >= 0.5 * (P[L] + P[R]) else -1.0
         _record(st, ev, q.K_CONTACT, 0.0, x, 0.0, 0.0, 0)
-        return _rest_on(P, st, jac, side), 0.0
+        return _rest_on(P, st, jac, side), 0.0, x, 0.0
     if P[FF] == 0.0:
         st[q.S] = 1.0 if _force(P, x, 0.0) >= 0.0 else -1.0
-        return FLIGHT, 0.0
+        return FLIGHT, 0.0, x, 0.0
     _record(st, ev, q.K_STICK, 0.0, x, 0.0, 0.0, 0)
     if jac:
         _times(st, 1.0, 0.0, 0.0, 0.0)
-    return STICK, 0.0
+    return STICK, 0.0, x, 0.0
 
 
 @kernel
 def run_state(P, x, v, t_end, jac, max_events, st, wk, ev):
     """Integrate one state over ``[0, t_end]`` (module docstring); returns its status."""
     n = 6 if jac else 2
-    mode, t = _start(P, st, ev, x, v, jac)
+    mode, t, x, v = _start(P, st, ev, x, v, t_end, jac)
     steps = 0
     while True:
         if mode < 0:
@@ -439,8 +445,9 @@ def run_state(P, x, v, t_end, jac, max_events, st, wk, ev):
             st[q.XF], st[q.VF] = min(max(x, P[L]), P[R]), v
             return OK
         if code == WALL:
+            x = P[R] if st[q.S] > 0.0 else P[L]       # the wall hit (st[S] changes in _impact)
             mode, t = _impact(P, st, ev, t, v, t_end, jac)
-            x, v = (P[R] if st[q.S] < 0.0 else P[L]), (-P[E] * v if mode == FLIGHT else 0.0)
+            v = -P[E] * v if mode == FLIGHT else 0.0
         else:
             mode = _velocity_zero(P, st, ev, t, x, jac)
             v = 0.0

@@ -87,8 +87,9 @@ def _bounds(P):
     scale_x = max(abs(l), abs(r)) + Fv / w ** 2 + f * period * period
     P[NOISE1], P[NOISE2] = 16 * EPS * scale_x, 16 * EPS * (Fv / w + f * period)
     #: a root's state is carried by the local model of ``fast.precise`` over |d| <= d_acc:
-    #: the omitted term |A''| d^3 / 6 <= F w^2 d^3 / 6 stays below eps / 48
-    P[D_ACC] = 0.5 * (EPS / max(Fv * w * w, tiny)) ** (1.0 / 3.0)
+    #: the omitted term |A''| d^3 / 6 <= F w^2 d^3 / 6 stays below eps / 48; at most 2^-20 T
+    #: (without forcing the model is exact, but an event is never moved across more)
+    P[D_ACC] = min(0.5 * (EPS / max(Fv * w * w, tiny)) ** (1.0 / 3.0), 2.0 ** -20 * period)
     P[FRICTION] = float(f > 0)
     P[CHATTER] = float(f > 0 or P[E] < 1)
     P[XSCALE] = max(abs(l), abs(r))

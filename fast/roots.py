@@ -15,7 +15,8 @@ For an event function ``g`` with known ``g, g', g''`` at a point ``b`` and bound
   at its left end if ``g >= -g'^2/(2M)``: exactly one root there.
 * prediction: the root of the exact-curvature quadratic ``g + g' d + g'' d^2/2`` nearest
   to 0 in the crossing direction (``d < 0`` after an overshoot); error
-  ``<= M3 |d|^3 / (6 |g'|)`` near a simple root.  It is *accepted* when that bound is
+  ``<= M3 |d|^3 / (6 |g'|)`` near a simple root.  It is *accepted* when the model has a real
+  root there (without one, ``g / |g'|`` is only an estimate), that bound is
   below ``tol`` and ``|d| <= d_acc`` (the state is then carried over ``d`` by the flight's
   local model, ``fast.precise``), or when ``|g|`` is below its noise floor while ``g' <= 0``
   (a tangential zero at working precision: ``d = 0``).
@@ -96,7 +97,7 @@ def analyze(g, g1, g2, g3, M, M3, H_cap, tol, noise, d_acc, fresh, need_back):
         if abs(step) < 0.5 * abs(d):                # a safeguarded refinement
             est = d - step
     ae = abs(est)
-    acc = neg and ae <= d_acc and M3 * ae * ae * ae <= (6.0 * tol) * (-g1)
+    acc = neg and disc >= 0.0 and ae <= d_acc and M3 * ae * ae * ae <= (6.0 * tol) * (-g1)
     if not acc and g1 <= 0.0 and abs(g) <= noise:
         return safe, 0.0, True, back                  # a tangential zero: the event is here
     return safe, est, acc, back
@@ -142,7 +143,7 @@ def bounds(P, av0):
     M1 = max(Ff + max(c * av0, Ff), TINY)
     M2 = P[p.F] * P[p.W] + c * M1
     M2_3 = P[p.F] * P[p.W] * P[p.W] + c * M2
-    return M1, M2, M2, M2_3, 0.5 * math.pow(EPS / M2_3, 1.0 / 3.0)
+    return M1, M2, M2, M2_3, min(0.5 * math.pow(EPS / M2_3, 1.0 / 3.0), P[p.D_ACC])
 
 
 @kernel
