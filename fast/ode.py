@@ -194,6 +194,7 @@ def _fly(P, st, wk, t_end, n, max_steps):
     s = st[q.S]
     wall = P[R] if s > 0.0 else P[L]
     xs = max(1.0, abs(wall))
+    no_v = P[F] == 0.0 and P[FF] == 0.0            # no force: v never changes sign
     for k in range(max_steps):
         t = st[q.TT]
         x, v = wk[dp.Y0], wk[dp.Y0 + 1]
@@ -204,14 +205,15 @@ def _fly(P, st, wk, t_end, n, max_steps):
         gw, dgw = _g(P, s, wall, t, x, v, 0)
         gv, dgv = _g(P, s, wall, t, x, v, 1)
         mx, mv = _bounds(P, abs(v), h)
-        safe = (gw >= 0.0 and gw + dgw * h - mx * h * h / 2 > 0.0) and (
-            gv >= 0.0 and gv + dgv * h - mv * h * h / 2 > 0.0)
+        safe = (gw >= 0.0 and gw + dgw * h - mx * h * h / 2 > 0.0) and (no_v or (
+            gv >= 0.0 and gv + dgv * h - mv * h * h / 2 > 0.0))
         dp.step(P[F], P[FF], P[DAMP], P[K], P[W], s, t, h, wk, n, not safe)
         th, thw, thv = math.inf, math.inf, math.inf
         if not safe:
             thw = _first_root(P, s, wall, t, h, wk, n, 0, mx * h * h, gw, dgw * h, TANGENT_FLOOR * xs)
-            thv = _first_root(P, s, wall, t, h, wk, n, 1, mv * h * h, gv, dgv * h,
-                              TANGENT_FLOOR * max(1.0, abs(v)))
+            if not no_v:
+                thv = _first_root(P, s, wall, t, h, wk, n, 1, mv * h * h, gv, dgv * h,
+                                  TANGENT_FLOOR * max(1.0, abs(v)))
             th = min(thw, thv)
         if th < math.inf:
             dp.dense_eval(wk, th, n)
