@@ -414,7 +414,7 @@ def closed_form_fold(F=1.0):
     """The paper's fold ``f = 2F/pi`` (eq. ``fold:bif``): from the claims module's paper formulas
     (``reference.paper.fold_friction`` via ``cross_check.claims``) when present, else the formula."""
     try:
-        from cross_check import claims  # lazy: written by another helper
+        from cross_check import claims# lazy: written by another helper
         return float(claims.P.fold_friction(Scene(F=F, f=0, omega=1, l=0, r=20)))
     except (ImportError, AttributeError):
         return 2.0 * F / np.pi

@@ -31,7 +31,8 @@ import time
 
 import mpmath
 
-from cross_check import compare, scenes
+from cross_check.agreement import compare
+from cross_check import scenes
 from cross_check.tolerances import tol
 
 GOLDEN_DPS = 90

@@ -4,14 +4,14 @@ Writes ``report.md`` and PNGs (default ``report/``):
 
 1. per scene, the agreement of ``fast`` with ``reference`` (dps 50) on the seeded sample:
    share of identical one-period itineraries, event-time and event-state digits, ``Phi`` and
-   ``Phi^10`` digits (median / worst; ``cross_check.compare``), the near-grazing band;
-2. the hard cases (``cross_check.hardcases``): the reference on the exact decimal state and on
+   ``Phi^10`` digits (median / worst; ``cross_check.agreement.compare``), the near-grazing band;
+2. the hard cases (``cross_check.agreement.hardcases``): the reference on the exact decimal state and on
    its float64 rounding, ``fast``, scipy DOP853 (rtol 1e-10), and whether ``fast``'s itinerary
    is stable under a ``compare_band_ulps`` move;
 3. a work-precision diagram (``work_precision``): error of ``Phi`` and ``Phi^10`` against the
    reference at ``TRUTH_DPS`` versus time per trajectory-period (best of 2), for the reference
    at dps 16 ... 100, ``fast`` and ``solve_ivp`` RK45/DOP853 at rtol 1e-3 ... 1e-12
-   (``cross_check.baseline``), with the one-ulp floor (the spread of the exact map under
+   (``cross_check.agreement.baseline``), with the one-ulp floor (the spread of the exact map under
    one-ulp moves of the start) and fast's error in units of that floor;
 4. where solve_ivp misses events (``baseline.itinerary_misses``);
 5. the paper's claims (``cross_check.claims.run_claims(quick)``), if that module exists;
@@ -35,8 +35,9 @@ from dataclasses import dataclass
 import mpmath
 import numpy as np
 
-from cross_check import baseline, compare, scenes
-from cross_check.compare import Summary
+from cross_check.agreement import baseline, compare
+from cross_check import scenes
+from cross_check.agreement.compare import Summary
 from cross_check.tolerances import tol
 
 REF_DPS = 50
@@ -423,18 +424,18 @@ def build(out_dir, quick: bool = False, claims: bool = True) -> tuple[pathlib.Pa
               f"{tol('fast_one_period_median').rtol:g} (14.5 digits).  `band` = states whose fast itinerary "
               "changes under a few-ulp move (near-grazing band): listed, not hidden.", "",
               "## Hard cases", "", "Constructed exactly by closed-form backward flights "
-              "(`cross_check/hardcases.py`); fast and scipy see the float64 rounding of the decimal state, "
+              "(`cross_check/agreement/hardcases.py`); fast and scipy see the float64 rounding of the decimal state, "
               "so they are compared with the reference on that same float64 state.", ""]
     lines += _hard_table(hard)
     lines += ["", "## Work-precision", "", "![work-precision](work_precision.png)", "",
               f"Error of Phi^n against the reference at dps {TRUTH_DPS}; time per trajectory-period "
               "(best of 2 runs; fast: the states repeated into a batch of ~4096, time divided).  "
-              "scipy: `cross_check/baseline.py`.", ""]
+              "scipy: `cross_check/agreement/baseline.py`.", ""]
     lines += _wp_table(wp) if wp is not None else ["(failed: see Failures)", ""]
     lines += ["## Where solve_ivp misses events", "",
               "One period from the sample and hard states (float64) of the hard-case scenes; itineraries in "
               "canonical form (`compare.canonical`) against the reference at dps 50.  A careful user's "
-              "event handling (`cross_check/baseline.py`): restart at each event, stick and wall contact "
+              "event handling (`cross_check/agreement/baseline.py`): restart at each event, stick and wall contact "
               "by threshold events, chatter cut-off below 100 atol.", ""] + scipy_lines + [""]
     lines += ["## The paper's claims", ""] + claims
     lines += ["", "## Machine, versions, seeds", ""] + machine_section(plan, quick)

@@ -19,7 +19,7 @@ Scenes (paper, figure captions; every parameter an exact string or integer):
 
 States of interest per scene: a deterministic sample in the gap (``numpy`` PCG64, seed
 ``SEED`` + CRC32 of the scene name; float64 values, exact as binary numbers) plus the hard cases
-of ``cross_check.hardcases`` (decimal strings, constructed by closed-form backward flights).
+of ``cross_check.agreement.hardcases`` (decimal strings, constructed by closed-form backward flights).
 """
 from __future__ import annotations
 
@@ -31,7 +31,7 @@ import mpmath
 import numpy as np
 
 from reference.scene import Scene
-from cross_check.hardcases import hard_cases
+from cross_check.agreement.hardcases import hard_cases
 
 SEED = 20261122
 
@@ -157,7 +157,7 @@ _HARD_CASE_EFFECTS = frozenset({"walls", "forcing", "friction"})
 @functools.lru_cache(maxsize=None)
 def _hard_states(name: str) -> tuple:
     if not scene(name).effects <= _HARD_CASE_EFFECTS:
-        # cross_check.hardcases runs base-model flights backward from the chosen event; with
+        # cross_check.agreement.hardcases runs base-model flights backward from the chosen event; with
         # restitution, damping or position forcing those flights are not the scene's, so the
         # effect scenes are probed by their samples (and the effect tests) instead.
         return ()
@@ -165,7 +165,7 @@ def _hard_states(name: str) -> tuple:
 
 
 def hard_states(name: str) -> list[Case]:
-    """The constructible hard cases of the scene (see ``cross_check.hardcases``)."""
+    """The constructible hard cases of the scene (see ``cross_check.agreement.hardcases``)."""
     return list(_hard_states(name))
 
 

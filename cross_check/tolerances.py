@@ -128,7 +128,7 @@ TOLERANCES = {
             "tangential root located to dt ~ eps (F/w)/|v-|, so v- = |a| dt is off by "
             "eps (F/w)^2/|v-| (|a| <= F + f), a relative error eps kappa^2 (measured: v- = "
             "1e-6 gives 3e-4); 1e-13 is fast_one_period_max's bound for the rest"),
-    # --- cross_check.compare ----------------------------------------------------------
+    # --- cross_check.agreement.compare ----------------------------------------------------------
     "compare_band_ulps": Tol(
         rtol=4.0, atol=0.0,
         why="near-grazing band: a state is in the band if its event itinerary changes when "

@@ -1,5 +1,5 @@
 """fast finds every constructed event (issue 13): starts built backwards from a known first
-event (``cross_check.construct``, independent of both integrators), 1e4 in the default run
+event (``cross_check.agreement.construct``, independent of both integrators), 1e4 in the default run
 and 1e6 in a ``slow`` test.  Outside the band (where the rounding of the start to float64
 cannot decide the event) the constructed event must come first, of its kind, at its time;
 everywhere, nothing may be invented before it.
@@ -9,7 +9,7 @@ import pytest
 
 import fast
 import reference
-from cross_check import construct as C
+from cross_check.agreement import construct as C
 from reference.scene import Scene
 
 SCENES = {

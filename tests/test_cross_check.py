@@ -1,6 +1,6 @@
 """cross_check: scenes, hard-case constructions, agreement metrics, fast vs reference, baseline.
 
-The hard cases are built by cross_check.hardcases' own closed-form backward flights; the
+The hard cases are built by cross_check.agreement.hardcases' own closed-form backward flights; the
 reference (independent code) must then find the constructed event at the constructed time:
 a check of both.  Fast is held to fast_one_period_max / fast_one_period_median on the
 paper's scenes outside the near-grazing band (tolerances from cross_check/tolerances.py).
@@ -15,8 +15,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 
-from cross_check import baseline, compare, hardcases, scenes
-from cross_check.compare import Event
+from cross_check.agreement import baseline, compare, hardcases
+from cross_check import scenes
+from cross_check.agreement.compare import Event
 from cross_check.tolerances import tol
 from tests.strategies import named_scene_states
 

@@ -10,7 +10,7 @@ import pytest
 
 import fast
 import reference
-from cross_check import compare
+from cross_check.agreement import compare
 from cross_check.tolerances import tol
 from reference.scene import Scene
 
@@ -97,7 +97,7 @@ TEN_SCENES = [SCENES[0], SCENES[3], SCENES[4]]
 @pytest.mark.parametrize("name, scene, vmax", TEN_SCENES, ids=[s[0] for s in TEN_SCENES])
 def test_ten_periods_within_rounding_floor(name, scene, vmax):
     """Issue 3: after ten periods fast's error is within ``fast_ten_period_ulp_factor`` of
-    the rounding floor (``cross_check.compare.map_floors``, from the reference alone) for
+    the rounding floor (``cross_check.agreement.compare.map_floors``, from the reference alone) for
     every state, chaotic ones included (their floor is amplified by up to ~1e7 and fast's
     error with it)."""
     rng = np.random.default_rng(2026)

@@ -24,7 +24,8 @@ import mpmath
 import numpy as np
 import pytest
 
-from cross_check import compare, golden, scenes
+from cross_check.agreement import compare
+from cross_check import golden, scenes
 from cross_check.tolerances import tol
 
 FILES = {name: golden.DEFAULT_DIR / (scenes.slug(name) + ".json") for name in scenes.SCENES}

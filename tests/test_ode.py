@@ -163,10 +163,10 @@ def test_period_map_matches_reference():
     """One period of eq. ``xpot`` from states with impacts, turns, sticking (inside E),
     wall contact and pre-impact starts: ``fast.stroboscopic_map`` (routed to ``fast.ode``)
     against ``reference.stroboscopic_map`` at 30 digits; the event logs against its
-    trajectories (the canonical itineraries of ``cross_check.compare``)."""
+    trajectories (the canonical itineraries of ``cross_check.agreement.compare``)."""
     import fast
     import reference
-    from cross_check import compare
+    from cross_check.agreement import compare
 
     x0, v0 = np.array(MAP_STATES).T
     X, V = fast.stroboscopic_map(XPOT, x0, v0)
@@ -264,7 +264,7 @@ def test_chatter_run_is_summed(scene, x0, v0):
 
     log = reference.trajectory(scene, x0, v0, 2 * mpmath.pi / scene.mpf("omega"), dps=30)
     assert "chatter" in [e.kind for e in log] and "release" in [e.kind for e in log]
-    from cross_check import compare
+    from cross_check.agreement import compare
 
     numerical = scene.replace(wavenumber="1e-9")      # the numerical flights of fast.ode
     X, V, J, _ = fast.map_and_jacobian(numerical, np.array([x0]), np.array([v0]))

@@ -3,7 +3,7 @@
 Run: ``python -m pytest tests/benchmarks/test_bench_scipy.py --benchmark-only``.  Both rows
 do one period of the same 32 states of the narrow scene with friction (fig:narrow-with-friction,
 seeded sample): scipy's ``solve_ivp`` DOP853 at rtol 1e-10 restarted at every event
-(``cross_check.baseline``), and ``fast.stroboscopic_map`` on the batch; a third row runs fast on
+(``cross_check.agreement.baseline``), and ``fast.stroboscopic_map`` on the batch; a third row runs fast on
 4096 states (the sample repeated), where its per-call overhead is amortised.  Speed ratio per
 trajectory-period: (scipy mean / 32) / (fast mean / n).  Each benchmark also checks its result against the
 reference (dps 30): fast within ``fast_one_period_max``; scipy converged (error well below
@@ -12,7 +12,8 @@ its rtol's square root on states whose itinerary it gets right).
 import numpy as np
 import pytest
 
-from cross_check import baseline, compare, scenes
+from cross_check.agreement import baseline, compare
+from cross_check import scenes
 from cross_check.tolerances import tol
 
 NAME = "fig:narrow-with-friction"

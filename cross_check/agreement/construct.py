@@ -1,7 +1,7 @@
 """Constructed events in bulk: many starts whose first event is known, built independently of
 both integrators (issue 13: 1e4 cases in the default test run, 1e6 in a ``slow`` test).
 
-``cross_check.hardcases`` builds a handful of cases at 60 digits with mpmath; this module
+``cross_check.agreement.hardcases`` builds a handful of cases at 60 digits with mpmath; this module
 builds them by the thousand in float64 numpy on the same idea: choose the state *at* the
 event -- time ``t*``, position, velocity, flight sign ``s`` -- and evaluate the base model's
 closed-form flight backwards at ``t = 0`` (``h = t - t*``)::
