@@ -1,7 +1,8 @@
 """Event-driven trajectory, the stroboscopic map and the event log.
 
 The event log is a list of :class:`Event` (``kind, t, x, v, v_before, count``), in time
-order; ``v`` is the velocity just *after* the event.  Kinds (``SEMANTICS.md``):
+order; ``v`` is the velocity just *after* the event.  Kinds (defined here, once, for every
+engine and test; the motions between events are ``reference.flows``'):
 
 ``"impact"``   x reaches the wall the flight moves toward; ``v = -e v_before``.  A grazing
                touch (``|v_before|`` below the noise floor) at a wall the force pulls away

@@ -4,7 +4,7 @@ Walking the event log of ``[0, T]``, with the mode between events:
 
 * flight over ``h``:            ``[[1, h], [0, 1]]``
 * impact at ``t*``:             ``[[-1, 0], [2 A(t*) / v-, -1]]`` with ``v-`` the velocity
-  **before** the impact.  Derivation (SEMANTICS.md): the saltation matrix
+  **before** the impact.  Derivation (the saltation matrix of the reset, written out here):
   ``S = DR + (f+ - DR f-) grad(h)^T / (grad(h) . f-)`` with ``h(x) = x - r``,
   ``DR = diag(1, -1)``, ``f- = (v-, a-)``, ``f+ = (-v-, a+)`` gives the lower-left entry
   ``(a+ + a-)/v-``; friction cancels in ``a+ + a- = (A + s f) + (A - s f) = 2 A``.  The

@@ -89,7 +89,7 @@ def flight_starts(draw, scene: Scene, vmax: float = 4.0):
 
 
 # --- reference (tests/test_reference_*.py) --------------------------------------------------
-#: The paper's scenes (SEMANTICS.md, "The paper's scenes"), a representative of each family.
+#: The paper's scenes (cross_check.scenes, module docstring), a representative of each family.
 REFERENCE_SCENES = {
     "narrow_f0": Scene(F="1", f="0", omega="1", l="0", r="0.8"),
     "narrow_f0005": Scene(F="1", f="0.005", omega="1", l="0", r="0.8"),

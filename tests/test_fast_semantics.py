@@ -1,4 +1,4 @@
-"""fast: the modes and hard cases of SEMANTICS.md against closed forms derived here.
+"""fast: the modes (reference.integrator's event kinds) and hard cases against closed forms derived here.
 
 Every expected value is computed in the test from the model's closed forms (scipy's
 brentq for a transcendental root), not copied from a run.

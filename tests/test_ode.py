@@ -39,7 +39,7 @@ def _reference_event(scene, t0, x0, v0, s, t_end):
 
 
 def test_k0_matches_closed_form():
-    """No position forcing, no events: DOP853 against SEMANTICS' base flight (30 digits)."""
+    """No position forcing, no events: DOP853 against reference.flows' base flight (30 digits)."""
     scene = Scene(F=1, f="0.2", omega="2*pi", l=-50, r=50)
     t0 = np.array([0.0, 0.3, 0.77])
     x0, v0, s = np.array([0.3, -0.2, 0.0]), np.array([1.7, -2.4, 9.0]), np.array([1.0, -1.0, 1.0])

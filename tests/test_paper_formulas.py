@@ -183,7 +183,7 @@ def test_monodromy_closed_form_matches_table1_product():
 
 
 def _flow(scene, t0, x0, v0, s, t):
-    """Closed-form flight with velocity sign s (SEMANTICS.md), independent of the integrators."""
+    """Closed-form flight with velocity sign s (reference.flows), independent of the integrators."""
     F, f, w = scene.mpf("F"), scene.mpf("f"), scene.mpf("omega")
     h = t - t0
     v = v0 + F / w * (mpmath.sin(w * t) - mpmath.sin(w * t0)) - s * f * h

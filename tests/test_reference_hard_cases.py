@@ -1,7 +1,7 @@
 """The hard cases of DESIGN.md, each constructed exactly and pinned.
 
 States are built backward from the event they must produce, with the plain closed form
-of a flight (SEMANTICS.md) at 30 digits above the run's precision, so the event sits at its
+of a flight (reference.flows) at 30 digits above the run's precision, so the event sits at its
 place to far below the reference's noise floor.
 """
 import importlib

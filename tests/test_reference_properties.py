@@ -8,7 +8,7 @@
   (cos is even; elastic impacts are reversible), so running from ``(x(T), -v(T))`` at
   ``t0 = -T`` to ``0`` returns ``(x(0), -v(0))`` -- forward integration only;
 * every flight segment of the log recomputed independently (the plain closed form of
-  SEMANTICS.md at +30 digits) and sampled densely: no wall crossed, no sign change of v
+  reference.flows at +30 digits) and sampled densely: no wall crossed, no sign change of v
   (friction) between logged events -- no missed event.
 """
 import mpmath
@@ -54,7 +54,7 @@ def flight_segments(log):
 
 
 def naive_flight(F, f, w, ta, xa, va, s, t):
-    """The plain closed form (SEMANTICS.md), evaluated at the caller's high precision."""
+    """The plain closed form (reference.flows), evaluated at the caller's high precision."""
     h = t - ta
     v = va + F / w * (mpmath.sin(w * t) - mpmath.sin(w * ta)) - s * f * h
     x = (xa + va * h + F / w ** 2 * (mpmath.cos(w * ta) - mpmath.cos(w * t) - w * h * mpmath.sin(w * ta))

@@ -1,7 +1,7 @@
 """reference/taylor.py: the certified Taylor flight for position-dependent forcing.
 
 Checks, each against something independent of the Taylor recurrences:
-closed-form flight when ``k = 0`` (SEMANTICS' base flight), ``mpmath.odefun`` (mpmath's own
+closed-form flight when ``k = 0`` (reference.flows' base flight), ``mpmath.odefun`` (mpmath's own
 Taylor integrator) on eq. ``xpot``, the proved truncation bound against the true tail
 (higher order), Liouville ``det J = exp(-c t)``, central differences for the flight
 matrix, the energy balance, the jerk and the event bounds of the flight interface, the
@@ -23,7 +23,7 @@ XPOT = Scene(F=1, f="0.1", omega="2*pi", l=-1, r=1, wavenumber="pi/2", name="xpo
 
 
 def closed_form(scene, t0, x0, v0, s, t):
-    """SEMANTICS.md base flight (c = 0, k = None), evaluated at 30 extra digits."""
+    """reference.flows' base flight (c = 0, k = None), evaluated at 30 extra digits."""
     with mpmath.extradps(30):
         F, f, w = scene.mpf("F"), scene.mpf("f"), scene.mpf("omega")
         t0, x0, v0, t = (mpmath.mpf(a) for a in (t0, x0, v0, t))

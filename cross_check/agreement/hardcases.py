@@ -14,7 +14,7 @@ Going backward, the segment with sign ``s`` ends (at its forward start) where ``
 the wall behind (``l`` for ``s = +1``: forward, an impact there, ``v -> -v``) or where
 ``v = 0`` (forward, a turning point; accepted only if ``s A > f`` there, so that the forward
 motion is unambiguous; otherwise the candidate ``t*`` is rejected).  Roots are located by
-the certified step of SEMANTICS.md: with ``G(u) = g(t - u) >= 0`` and ``|G''| <= M``
+the certified step of ``reference.events`` ("Safe steps"): with ``G(u) = g(t - u) >= 0`` and ``|G''| <= M``
 (``M = F + f`` for ``x``, ``F w`` for ``v``), ``G(u + h) >= G + G' h - M h^2 / 2``, so the
 step ``h = (G' + sqrt(G'^2 + 2 M G)) / M`` never jumps over a root.  The construction runs
 at ``CONSTRUCT_DPS`` digits; the state is then rounded to ``STATE_DIGITS`` significant
