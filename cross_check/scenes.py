@@ -25,12 +25,11 @@ from __future__ import annotations
 
 import functools
 import zlib
-from dataclasses import dataclass
 
-import mpmath
 import numpy as np
 
 from reference.scene import Scene
+from cross_check.agreement.case import Case
 from cross_check.agreement.hardcases import hard_cases
 
 SEED = 20261122
@@ -78,6 +77,32 @@ QUICK_SCENES = ("fig:narrow", "fig:narrow-with-friction", "fig:many:wide/f=0.3",
                 "fig:many:2pi/f=0.1", "fig:resonance/R=0.8932")
 
 
+# ------------------------------------------------------------------ scene families (one parameter free)
+def narrow(f=0, r="0.8") -> Scene:
+    """Fig. narrow / narrow-with-friction: F = 1, w = 1, l = 0, r = 0.8."""
+    return Scene(F=1, f=f, omega=1, l=0, r=r)
+
+
+def wide(f=0, r=20) -> Scene:
+    """Fig. wide:b / many:wide / fold: F = 1, w = 1, l = 0, r = 20."""
+    return Scene(F=1, f=f, omega=1, l=0, r=r)
+
+
+def two_pi(f) -> Scene:
+    """Fig. many:2pi / f005 / three:per: F = 1, w = 2 pi, l = -1, r = 1."""
+    return Scene(F=1, f=f, omega="2*pi", l=-1, r=1)
+
+
+def resonance(r) -> Scene:
+    """Fig. resonance: w = 2 pi, F = w^2, f = 24.65, l = 0."""
+    return Scene(F="(2*pi)**2", f="24.65", omega="2*pi", l=0, r=r)
+
+
+def xpot() -> Scene:
+    """Fig. xpotno (eq. xpot): F = 1, f = 0.1, w = 2 pi, walls -1, 1, forcing F cos(pi x/2) cos(w t)."""
+    return Scene(F=1, f="0.1", omega="2*pi", l=-1, r=1, wavenumber="pi/2")
+
+
 def scene(name: str) -> Scene:
     """A scene by name (ValueError lists the known names)."""
     try:
@@ -89,39 +114,6 @@ def scene(name: str) -> Scene:
 def slug(name: str) -> str:
     """A file-name-safe form of a scene name (``fig:many:wide/f=0.1`` -> ``fig-many-wide_f=0.1``)."""
     return name.replace(":", "-").replace("/", "_")
-
-
-@dataclass(frozen=True)
-class Case:
-    """A state of interest at ``t = 0``.
-
-    ``exact`` says what the strings mean: ``"float64"`` -- the float64 number ``float(x)``
-    (shortest round-trip repr), exact in binary; ``"decimal"`` -- the decimal number itself
-    (hard cases; float64 sees it rounded, which is part of what a hard case probes).
-    """
-
-    name: str
-    x: str
-    v: str
-    exact: str
-    how: str
-    kind: str = ""
-    t_event: str = ""
-
-    def mpf(self):
-        """``(x, v)`` as mpf at the current precision (exact for float64 cases)."""
-        if self.exact == "float64":
-            return mpmath.mpf(float(self.x)), mpmath.mpf(float(self.v))
-        return mpmath.mpf(self.x), mpmath.mpf(self.v)
-
-    def float(self):
-        """``(x, v)`` as float64 (correctly rounded)."""
-        return float(self.x), float(self.v)
-
-    def rounded(self) -> "Case":
-        """The float64 rounding of this state, as a ``float64`` case (what fast sees)."""
-        x, v = self.float()
-        return Case(self.name, repr(x), repr(v), "float64", self.how, self.kind, self.t_event)
 
 
 def velocity_scale(sc: Scene) -> float:

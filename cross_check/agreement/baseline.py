@@ -197,28 +197,3 @@ def stroboscopic(scene, x0: float, v0: float, periods: int = 1, method: str = "D
     if periods < 1:
         raise ValueError(f"periods must be >= 1, got {periods}")
     return run(scene, x0, v0, periods * 2 * math.pi / scene.float("omega"), method, rtol)
-
-
-def itinerary_misses(names, n_sample: int, progress=None) -> dict:
-    """One-period itineraries of solve_ivp against the reference (dps 50), canonical form.
-
-    For RK45 and DOP853 at rtol 1e-6 and 1e-10, on the sample states and the float64
-    roundings of the hard cases of the scenes ``names``: ``{(method, rtol): [(where,
-    reference kinds, baseline kinds or None if it raised)]}``.
-    """
-    from cross_check import scenes
-
-    runs = {(m, r): [] for m in METHODS for r in (1e-6, 1e-10)}
-    for name in names:
-        sc = scenes.scene(name)
-        for c in scenes.sample_states(name, n_sample) + [h.rounded() for h in scenes.hard_states(name)]:
-            ref = [e.kind for e in canonical(ref_events(sc, c, None, 50), sc)]
-            for method, rtol in runs:
-                try:
-                    got = [e.kind for e in canonical(stroboscopic(sc, *c.float(), 1, method, rtol).events, sc)]
-                except RuntimeError:
-                    got = None
-                runs[(method, rtol)].append((f"{name}/{c.name}", ref, got))
-        if progress:
-            progress(f"scipy itineraries: {name}")
-    return runs

@@ -34,6 +34,7 @@ from typing import NamedTuple, Sequence
 import mpmath
 import numpy as np
 
+from cross_check.agreement.case import Case
 from cross_check.tolerances import tol
 
 DIGITS_CAP = 17.0   # float64 carries 15.95 digits; exact agreement scores 17
@@ -347,8 +348,6 @@ def reference_in_band(scene, case, ulps: int | None = None, dps: int = 50) -> bo
     """True if the reference's one-period itinerary (canonical) from the float64 state
     ``case`` changes under the ``band_mask`` moves: the exact dynamics is ambiguous at
     float64 resolution there, so no float64 integrator can be held to its itinerary."""
-    from cross_check.scenes import Case
-
     k = int(tol("compare_band_ulps").rtol) if ulps is None else int(ulps)
     l, r = scene.float("l"), scene.float("r")
     X, V = case.float()

@@ -1,15 +1,18 @@
-"""fast.analysis: Newton for periodic points, the search, the type of a point, the area classes.
+"""cross_check.dynamics: the one Newton for periodic points (fast and reference engines), the
+search, the one classifier, the area classes.
 
 Expected values come from the closed forms of reference.paper (the symmetric non-sticking
 solutions and the no-impact attractor), themselves checked in tests/test_paper_formulas.py.
 """
+import mpmath
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from cross_check.dynamics import periodic as A
+from cross_check.dynamics import portraits
 from cross_check.tolerances import tol
-from fast import analysis as A
 from reference import paper as P
 from reference.scene import Scene
 
@@ -37,14 +40,18 @@ def _closed(scene, branch, m=1):
 ])
 def test_classify(J, kind, stability):
     got = A.classify(J)
-    assert got[:2] == (kind, stability)
-    assert abs(got[3] - np.trace(J)) < 1e-15 and abs(got[4] - np.linalg.det(J)) < 1e-15
+    assert (str(got[0]), str(got[1])) == (kind, stability)
+
+
+def test_classify_is_elementwise_on_a_batch():
+    Js = np.array([[[2.0, 0.0], [0.0, 0.5]], [[0.5, 0.0], [0.0, 0.2]], [[np.nan, 0.0], [0.0, 1.0]]])
+    kind, stab = A.classify(Js)
+    assert list(kind) == ["saddle", "node", "undefined"] and list(stab) == ["unstable", "stable", "undefined"]
+    assert list(A.is_saddle(kind)) == [True, False, False]
 
 
 def test_classify_rejects_bad_input():
-    with pytest.raises(ValueError, match="finite 2x2"):
-        A.classify([[np.nan, 0], [0, 1]])
-    with pytest.raises(ValueError, match="finite 2x2"):
+    with pytest.raises(ValueError, match=r"shape \(\.\.\., 2, 2\)"):
         A.classify([1, 2, 3])
 
 
@@ -54,8 +61,7 @@ def test_newton_converges_to_symmetric_solutions():
         res = A.newton(WIDE, [x0 + 0.05, x0 - 0.03], [v0 - 0.04, v0 + 0.02])
         assert res.converged.all()
         assert np.max(abs(res.x - x0)) < FP and np.max(abs(res.v - v0)) < FP
-        _, _, J = A.map_and_jacobian(WIDE, res.x[:1], res.v[:1])
-        assert abs(np.trace(J[0]) - trace) < MULT
+        assert abs(np.trace(res.J[0]) - trace) < MULT
 
 
 @settings(max_examples=10)
@@ -100,11 +106,9 @@ def test_segment_of_no_impact_fixed_points_is_non_isolated():
     v = np.full(3, float(closed["v0"]))
     res = A.newton(WIDE, x, v + 1e-4)
     assert res.converged.all() and np.max(abs(res.v - float(closed["v0"]))) < FP
-    _, _, J = A.map_and_jacobian(WIDE, res.x, res.v)
-    for Ji in J:
-        kind, stab, lam, _, det = A.classify(Ji)
-        assert kind == "non-isolated"
-        assert abs(det - float(closed["multiplier"])) < MULT
+    kind, _ = A.classify(res.J)
+    assert list(kind) == ["non-isolated"] * 3
+    assert np.max(abs(np.linalg.det(res.J) - float(closed["multiplier"]))) < MULT
 
 
 def test_area_classes():
@@ -112,19 +116,29 @@ def test_area_classes():
     turns = float(P.no_impact_attractor(WIDE)["v0"])
     wide6 = WIDE.replace(f="0.6")
     sticks = float(P.no_impact_attractor(wide6)["v0"])
-    labels, det = A.area_classes(WIDE, [x1, 8.0], [v1, turns])
+    labels, det = portraits.area_classes(WIDE, [x1, 8.0], [v1, turns])
     assert list(labels) == ["pres", "dissip"]
     assert abs(det[0] - 1) < 1e-12 and abs(det[1] - float(P.no_impact_attractor(WIDE)["multiplier"])) < 1e-8
-    labels, det = A.area_classes(wide6, [9.0], [sticks])
+    labels, det = portraits.area_classes(wide6, [9.0], [sticks])
     assert list(labels) == ["dissip"] and det[0] == 0
 
 
 def test_dissipative_invariance_counts():
     xs, vs = np.meshgrid(np.linspace(1, 19, 7), np.linspace(-3, 8, 7))
-    out = A.dissipative_invariance(WIDE.replace(f="0.6"), xs.ravel(), vs.ravel())
+    out = portraits.dissipative_invariance(WIDE.replace(f="0.6"), xs.ravel(), vs.ravel())
     assert out["n"] == 49 and 0 < out["n_dissip"] < 49
     assert out["n_violations"] == len(out["violations"]) == 0
     assert out["n_det_mismatch"] == 0
+
+
+def test_reference_engine_refines_the_fast_point():
+    # the same Newton on the reference map at 40 digits, from fast's float64 point: it must land
+    # on the closed form to far below float64 (the claims' refinement)
+    with mpmath.workdps(40):
+        x0, v0 = P.symmetric_solution(WIDE, 1, dps=40).state0()
+        res = A.newton(WIDE, [float(x0) + 1e-6], [float(v0) - 1e-6], engine=A.Reference(40))
+        assert res.converged[0]
+        assert abs(res.x[0] - x0) < mpmath.mpf(10) ** -30 and abs(res.v[0] - v0) < mpmath.mpf(10) ** -30
 
 
 def test_canonical_wall_state():

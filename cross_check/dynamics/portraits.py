@@ -1,4 +1,4 @@
-"""Phase portraits of the stroboscopic map: orbits, their classification, drawing.
+"""Phase portraits of the stroboscopic map: orbits, their classes, islands, the area classes.
 
 An orbit ``z_0, z_1 = Phi(z_0), ...`` is put in one of three classes:
 
@@ -16,14 +16,29 @@ An orbit ``z_0, z_1 = Phi(z_0), ...`` is put in one of three classes:
   ``[0, N)`` and ``[N, 2N)`` agree, relative to the spread of ``g`` on the orbit.
   The observables are ``x`` and ``v^2``: both are continuous across the impact
   identification ``(wall, v) ~ (wall, -v)``, where the map's ``(x, v)`` picture jumps.
+
+Area classes (paper, Fig. fig:fig): ``Omega_pres`` = ``|det Phi'| = 1`` (no zero velocity on
+``[0, T]``), ``Omega_dissip`` = ``|det Phi'| < 1``; ``undefined`` where ``Phi'`` is not finite
+(grazing).  Everything runs on ``fast`` (imported lazily: this module imports without it).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from cross_check import continuation as _cont
-from cross_check.continuation import engine
+from cross_check.dynamics.periodic import AREA_TOL, find_periodic_points
 from cross_check.tolerances import tol
+
+
+def engine():
+    """The float64 engine ``fast`` (imported on first use)."""
+    import fast
+    return fast
+
+
+def phi(scene, x, v, periods=1):
+    """``Phi^periods`` on a batch as a pair of float arrays."""
+    X, V = engine().stroboscopic_map(scene, np.asarray(x, float), np.asarray(v, float), periods=periods)
+    return np.asarray(X, float), np.asarray(V, float)
 
 
 def birkhoff_weights(n):
@@ -131,28 +146,6 @@ def grid_starts(window, mx, mv, l, r):
     return X.ravel(), V.ravel()
 
 
-def draw_orbits(ax, xs, vs, cls, *, chaotic_color="0.62", ms=1.4, cmap="turbo"):
-    """Regular orbits in colour (ordered by their mean ``v^2`` so nested curves differ), chaotic in grey."""
-    import matplotlib
-
-    reg = np.nonzero(cls == "regular")[0]
-    cha = np.nonzero(cls == "chaotic")[0]
-    if cha.size:
-        ax.plot(xs[:, cha].ravel(), vs[:, cha].ravel(), ".", color=chaotic_color, ms=ms * 0.6, mew=0,
-                rasterized=True, zorder=1)
-    if reg.size:
-        order = np.argsort(np.argsort((vs[:, reg] ** 2).mean(0) + xs[:, reg].mean(0) * 1e-3))
-        colors = matplotlib.colormaps[cmap](0.05 + 0.9 * order / max(1, reg.size - 1))
-        for j, i in enumerate(reg):
-            ax.plot(xs[:, i], vs[:, i], ".", color=colors[j], ms=ms, mew=0, rasterized=True, zorder=2)
-
-
-def draw_walls(ax, scene):
-    """The walls ``x = l, r`` as dashed blue lines."""
-    for w in (scene.float("l"), scene.float("r")):
-        ax.axvline(w, color="b", ls="--", lw=1.0, zorder=3)
-
-
 def no_impact_segment(scene):
     """End points ``(x_a, x_b)`` of the segment ``v = 0`` of fixed points without impacts, or None.
 
@@ -191,18 +184,20 @@ def regular_threshold():
     return -np.log10(tol("fig_birkhoff_regular").rtol)
 
 
-def classify(scene, xs, vs, first):
-    """``portraits.classify_orbits`` with the scene's walls and the tolerance table's threshold."""
+def orbit_classes(scene, xs, vs, first):
+    """``classify_orbits`` with the scene's walls and the tolerance table's threshold."""
     return classify_orbits(xs, vs, first, regular_threshold(), (scene.float("l"), scene.float("r")))
 
 
-def periodic_points(scene, window, q, k=1, grid=True):
-    """Period-``k`` orbits in ``window`` with a flag ``dissip`` (orbit reaches zero velocity).
-
-    Newton seeds: a grid over ``window`` (unless ``grid`` is False) and a line on ``v = 0``.
+def periodic_points(scene, window, newton_seeds, k=1, grid=True):
+    """Period-``k`` orbits (``PeriodicPoint``) seeded in ``window``, flagged ``dissip`` when the
+    orbit reaches zero velocity.  Newton seeds: an ``newton_seeds = (mx, mv)`` grid over
+    ``window`` (unless ``grid`` is False) and ``4 mx`` seeds on ``v = 0`` (the ``t = 0`` section
+    of the time-reversal symmetric orbits, ``f = 0``); orbits whose representative leaves the
+    window are dropped.
     """
     # a grid of seeds plus a line on v = 0 (the t = 0 section of time-reversal symmetric orbits, f = 0)
-    mx, mv = q.newton_seeds
+    mx, mv = newton_seeds
     gx = window[0] + (np.arange(mx) + 0.5) / mx * (window[1] - window[0])
     gv = window[2] + (np.arange(mv) + 0.5) / mv * (window[3] - window[2])
     X, V = np.meshgrid(gx, gv)
@@ -210,16 +205,18 @@ def periodic_points(scene, window, q, k=1, grid=True):
     if not grid:
         X, V = X[:0], V[:0]
     seeds = (np.concatenate([X.ravel(), lx]), np.concatenate([V.ravel(), np.zeros_like(lx)]))
-    orbits = _cont.find_periodic_orbits(scene, window, k, seeds=seeds)
-    fe = _cont.engine()
+    span = window[3] - window[2]
+    found = find_periodic_points(scene, period=k, seeds=seeds, v_range=(window[2] - span / 2, window[3] + span / 2))
+    orbits = [o for o in found if window[0] <= o.x <= window[1] and window[2] <= o.v <= window[3]]
     for o in orbits:
-        pts = o["points"]
-        o["dissip"] = bool(np.asarray(fe.zero_velocity(scene, pts[:, 0], pts[:, 1])).any())
+        o.dissip = bool(np.asarray(engine().zero_velocity(scene, o.points[:, 0], o.points[:, 1])).any())
     return orbits
 
 
 def nonsticking(orbits, kind):
-    return [o for o in orbits if not o["dissip"] and o["type"] == kind]
+    """The orbits of type ``kind`` (``saddle`` includes flip saddles) that never reach zero velocity."""
+    match = (lambda o: o.kind in ("saddle", "flip saddle")) if kind == "saddle" else (lambda o: o.kind == kind)
+    return [o for o in orbits if not o.dissip and match(o)]
 
 
 def centre_line_starts(scene, centre, window, m):
@@ -259,26 +256,54 @@ def island_box(xs, vs, cls, c, pad=0.15):
     return (bx.min() - pad * wx, bx.max() + pad * wx, bv.min() - pad * wv, bv.max() + pad * wv)
 
 
-def island_window(scene, centre, q, pad=0.15):
+def island_window(scene, centre, n_line, n_iter, pad=0.15):
     """Bounding box of the invariant curves nested around ``centre`` (Birkhoff-regular, contiguous)."""
     l, r = scene.float("l"), scene.float("r")
-    x0, v0 = centre_line_starts(scene, centre, (l, r, -np.inf, np.inf), q.n_line)
-    xs, vs, first = run_orbits(scene, x0, v0, q.n_iter)
-    cls, _ = classify(scene, xs, vs, first)
+    x0, v0 = centre_line_starts(scene, centre, (l, r, -np.inf, np.inf), n_line)
+    xs, vs, first = run_orbits(scene, x0, v0, n_iter)
+    cls, _ = orbit_classes(scene, xs, vs, first)
     return island_box(xs, vs, cls, np.asarray(centre, float), pad)
 
 
-def mark(ax, pts, style, **kw):
-    pts = np.atleast_2d(pts)
-    ax.plot(pts[:, 0], pts[:, 1], style, zorder=6, **kw)
-
-
-def saddle_centre_pair(scene, win, q):
+def saddle_centre_pair(scene, win, newton_seeds):
     """The non-sticking centre and the saddle closest to it (the pair born in the fold)."""
-    fps = periodic_points(scene, win, q)
+    fps = periodic_points(scene, win, newton_seeds)
     cen, sad = nonsticking(fps, "centre"), nonsticking(fps, "saddle")
     if not cen or not sad:
         raise RuntimeError(f"no non-sticking centre/saddle in {win} for {scene!r}: {len(cen)}, {len(sad)}")
-    best = min(((c, s) for c in cen for s in sad),
-               key=lambda cs: np.abs(cs[0]["points"][0] - cs[1]["points"][0]).sum())
-    return best[0], best[1], fps
+    return (*min(((c, s) for c in cen for s in sad), key=lambda cs: np.abs(cs[0].points[0] - cs[1].points[0]).sum()),
+            fps)
+
+
+# ------------------------------------------------------------------------------ area classes
+def area_classes(scene, x, v):
+    """``(labels, det)``: per state ``"pres"`` (|det Phi'| = 1), ``"dissip"`` (< 1) or ``"undefined"``."""
+    x, v = np.atleast_1d(np.asarray(x, float)), np.atleast_1d(np.asarray(v, float))
+    J = np.asarray(engine().jacobian(scene, x, v), float).reshape(x.shape + (2, 2))
+    with np.errstate(invalid="ignore"):
+        det = np.linalg.det(np.where(np.isfinite(J), J, 0.0))
+    det = np.where(np.isfinite(J).all(axis=(-1, -2)), det, np.nan)
+    labels = np.full(x.shape, "undefined", dtype=object)
+    labels[np.abs(np.abs(det) - 1) <= AREA_TOL] = "pres"
+    labels[np.abs(det) < 1 - AREA_TOL] = "dissip"
+    return labels, det
+
+
+def dissipative_invariance(scene, x, v):
+    """Counts for ``Phi(Omega_dissip) subset Omega_dissip`` on the given states (paper, Fig. fig:regs).
+
+    Membership is by definition (``fast.zero_velocity``: the velocity vanishes somewhere on
+    ``[0, T]``).  Returns a dict: ``n``, ``n_dissip``, ``n_violations`` (dissip states whose image is
+    not dissip), the violating states, and ``n_det_mismatch`` (states where the definition and
+    the ``|det Phi'| < 1`` test disagree, grazing excluded).
+    """
+    x, v = np.atleast_1d(np.asarray(x, float)), np.atleast_1d(np.asarray(v, float))
+    zero = np.asarray(engine().zero_velocity(scene, x, v), bool)
+    X, V = phi(scene, x, v)
+    zero_img = np.asarray(engine().zero_velocity(scene, X, V), bool)
+    labels, _ = area_classes(scene, x, v)
+    defined = labels != "undefined"
+    viol = zero & ~zero_img
+    return {"n": int(x.size), "n_dissip": int(zero.sum()), "n_violations": int(viol.sum()),
+            "violations": list(zip(x[viol].tolist(), v[viol].tolist())),
+            "n_det_mismatch": int((defined & (zero != (labels == "dissip"))).sum())}

@@ -1,0 +1,419 @@
+"""Periodic points of the stroboscopic map: ONE Newton and ONE classifier, over any map.
+
+A period-``k`` point solves ``G(z) = Phi^k(z) - z = 0``, ``z = (x, v)``, by Newton's method::
+
+    z <- z - lambda (J_k - I)^+ G(z),    J_k = Phi'(z_{k-1}) ... Phi'(z_1) Phi'(z_0)   (later on the left)
+
+with ``Phi'`` the product of the paper's Table 1 matrices.  ``Phi`` is only piecewise smooth,
+so each step is damped (``lambda`` halved up to ``MAX_HALVINGS`` times until ``|G|`` decreases;
+a start without descent is dropped) and ``x`` is kept in the gap.  ``(J_k - I)^+`` is the
+inverse, or where ``J_k - I`` is singular (a continuum of fixed points: the no-impact and
+stick-slip segments, a multiplier 1) the pseudo-inverse of the rank-one matrix, ``A^T /
+|A|_F^2``: the minimum-norm step.  The 2x2 algebra is written out, so the same code runs on
+numpy float64 batches and on numpy object arrays of mpf.
+
+Engines give ``Phi^k`` and ``J_k`` on a batch (``map_jac``) inside their precision
+(``context``):
+
+* ``FAST``: ``fast.map_and_jacobian``, float64, vectorised over the seeds;
+* ``Reference(dps)``: ``reference.stroboscopic_map`` and ``reference.jacobian`` at ``dps``
+  digits, one seed at a time (mpf objects).
+
+Type from the multipliers ``lambda_{1,2}`` of ``J_k`` (``det = lambda_1 lambda_2``, ``tr``), the
+one classifier of the suite (``classify``):
+
+* area-preserving (``|det - 1| <= AREA_TOL``): ``centre`` if ``|tr| < 2``, ``saddle`` if
+  ``tr > 2``, ``flip saddle`` if ``tr < -2``, ``parabolic`` within ``PARABOLIC_TOL`` of ``|tr| = 2``;
+* otherwise ``non-isolated`` when a multiplier is 1 (a segment of fixed points, such as the
+  no-impact attractor of Fig. many:wide); a complex pair is a ``focus``; real ones a ``node``
+  (both on one side of the unit circle) or a ``saddle``.
+
+``stability``: ``stable`` (both ``|lambda| < 1``), ``neutral`` (centre, parabolic,
+non-isolated), ``unstable`` otherwise.
+"""
+from __future__ import annotations
+
+import contextlib
+from dataclasses import dataclass, field
+
+import mpmath
+import numpy as np
+
+from cross_check.tolerances import tol
+
+#: |det J - 1| below this is area preserving (the tolerance table's ``claim_unit_det``)
+AREA_TOL = tol("claim_unit_det").atol
+#: |tr| within this of 2 is parabolic (float64 trace of a product of ~10 matrices, ~1e-13)
+PARABOLIC_TOL = 1e-9
+#: a multiplier this close to 1 on a contracting point: a segment of fixed points
+NONISOLATED_TOL = 1e-7
+MAX_NEWTON = 30
+MAX_HALVINGS = 5
+
+
+class _Fast:
+    """``fast``'s map, float64 batches."""
+
+    tol = 1e-11
+
+    def context(self):
+        return contextlib.nullcontext()
+
+    def map_jac(self, scene, x, v, k):
+        import fast
+        J = np.broadcast_to(np.eye(2), x.shape + (2, 2)).copy()
+        for _ in range(k):
+            x, v, Jj, _ = fast.map_and_jacobian(scene, x, v)
+            J = np.asarray(Jj, float) @ J
+        return np.asarray(x, float), np.asarray(v, float), J
+
+    def asarray(self, a):
+        return np.atleast_1d(np.asarray(a, float)).copy()
+
+    def walls(self, scene):
+        return scene.float("l"), scene.float("r")
+
+    def finite(self, a):
+        return np.isfinite(a)
+
+
+class Reference:
+    """``reference``'s map at ``dps`` digits: mpf objects, one seed at a time."""
+
+    def __init__(self, dps=50):
+        self.dps = dps
+
+    @property
+    def tol(self):
+        return mpmath.mpf(10) ** (-(self.dps - 8))
+
+    def context(self):
+        return mpmath.workdps(self.dps)
+
+    def asarray(self, a):
+        """mpf objects at the working precision (inside ``context()``)."""
+        flat = [mpmath.mpf(z) for z in np.ravel(np.asarray(a, object))]
+        return np.array(flat + [None], object)[:-1].reshape(np.shape(a) or (1,))
+
+    def map_jac(self, scene, x, v, k):
+        import reference
+        X, V, J = np.empty(x.shape, object), np.empty(x.shape, object), np.empty(x.shape + (2, 2), object)
+        for i in range(x.size):
+            xi, vi, Ji = x[i], v[i], mpmath.eye(2)
+            for _ in range(k):
+                Ji = mpmath.matrix(reference.jacobian(scene, xi, vi, dps=self.dps)) * Ji
+                xi, vi = reference.stroboscopic_map(scene, xi, vi, dps=self.dps)
+            X[i], V[i] = xi, vi
+            J[i] = np.array(Ji.tolist(), dtype=object)
+        return X, V, J
+
+    def walls(self, scene):
+        """The walls rounded inward by 2 ulp (an exact ``"0.8"`` rounds up at working precision)."""
+        eps = mpmath.mpf(2) ** (-mpmath.mp.prec + 2)
+        l, r = scene.mpf("l"), scene.mpf("r")
+        return l + abs(l) * eps, r - abs(r) * eps
+
+    def finite(self, a):
+        return np.vectorize(lambda z: bool(mpmath.isfinite(z)), otypes=[bool])(a)
+
+
+FAST = _Fast()
+
+
+def map_and_jacobian(scene, x, v, period=1, engine=FAST):
+    """``Phi^period(z)`` and ``J_period`` for a batch (the chain rule, later on the left)."""
+    with engine.context():
+        return engine.map_jac(scene, engine.asarray(x), engine.asarray(v), period)
+
+
+def solve_step(J, gx, gv):
+    """``d = -(J - I)^+ g`` per item: ``(dx, dv)``.
+
+    float64: LAPACK's solve where ``cond(A) < 1e12``, else the pseudo-inverse (singular values
+    below ``1e-10`` of the largest dropped); mpf objects: the SVD pseudo-inverse, singular
+    values below ``1e-30`` of the largest dropped.  On a segment of fixed points (a multiplier
+    1, ``J - I`` of rank one) the pseudo-inverse gives the minimum-norm step, and Newton still
+    converges, onto the segment."""
+    if J.dtype != object:
+        return _solve_float(J, gx, gv)
+    dx, dv = np.empty(gx.shape, object), np.empty(gv.shape, object)
+    for i in range(gx.size):
+        A = mpmath.matrix(J[i].tolist()) - mpmath.eye(2)
+        U, S, Vt = mpmath.svd_r(A)
+        cut = max(S) * mpmath.mpf(10) ** -30
+        y = U.T * mpmath.matrix([-gx[i], -gv[i]])
+        for j in range(len(S)):
+            y[j] = y[j] / S[j] if S[j] > cut else 0
+        d = Vt.T * y
+        dx[i], dv[i] = d[0], d[1]
+    return dx, dv
+
+
+def _solve_float(J, gx, gv):
+    A = J - np.eye(2)
+    g = np.stack([gx, gv], axis=-1)[..., None]
+    ok = np.isfinite(A).all(axis=(-1, -2)) & np.isfinite(g).all(axis=(-1, -2))
+    d = np.full(g.shape, np.nan)
+    if ok.any():
+        Ao, go = A[ok], g[ok]
+        good = np.linalg.cond(Ao) < 1e12
+        do = np.empty_like(go)
+        if good.any():
+            do[good] = np.linalg.solve(Ao[good], -go[good])
+        if (~good).any():
+            do[~good] = -np.linalg.pinv(Ao[~good], rcond=1e-10) @ go[~good]
+        d[ok] = do
+    return d[..., 0, 0], d[..., 1, 0]
+
+
+@dataclass
+class NewtonResult:
+    """Final states, their ``J_k``, residuals ``|G| / max(1, |z|)`` and convergence flags of a batch."""
+
+    x: np.ndarray
+    v: np.ndarray
+    J: np.ndarray
+    residual: np.ndarray
+    converged: np.ndarray
+    iterations: int
+    gx: np.ndarray = None
+    gv: np.ndarray = None
+
+
+def newton(scene, x, v, *, period=1, engine=FAST, tol=None, max_iter=MAX_NEWTON, v_bounds=None):
+    """Damped Newton for ``Phi^period(z) = z`` on a batch of seeds (module docstring).
+
+    ``tol`` (default the engine's: 1e-11 in float64, ``10^(8 - dps)`` for the reference) is on
+    ``|G| / max(1, |z|)`` (max norm).  ``v_bounds = (lo, hi)`` keeps iterates there (a wild
+    step to a huge speed would cost millions of impacts per period); default ``|v| <= 10
+    (max |v0| + F/w)``.  Items without descent or with a non-finite Jacobian stop (not
+    converged).  Each iteration costs one ``map_jac`` per trial point (the Jacobian of an
+    accepted trial is kept for the next step).
+    """
+    if not (isinstance(period, int) and period >= 1):
+        raise ValueError(f"period must be a positive int, got {period!r}")
+    if not (isinstance(max_iter, int) and 1 <= max_iter <= 1000):
+        raise ValueError(f"max_iter must be an int in [1, 1000], got {max_iter!r}")
+    with engine.context():
+        tol = engine.tol if tol is None else tol
+        l, r = engine.walls(scene)
+        clip = lambda a: np.minimum(np.maximum(a, l), r)          # noqa: E731
+        x = clip(engine.asarray(x))
+        v = engine.asarray(v)
+        if v_bounds is None:
+            vmax = 10 * (np.max(np.abs(v.astype(float)), initial=0.0) + scene.float("F") / scene.float("omega"))
+            v_bounds = (-vmax, vmax)
+        state = _State(scene, engine, x, v, period, clip, v_bounds)
+        it = 0
+        for it in range(1, max_iter + 1):
+            if not state.iterate(tol):
+                break
+        done = engine.finite(state.res) & (state.res <= tol)
+        return NewtonResult(state.x, state.v, state.J, state.res, done.astype(bool), it, state.gx, state.gv)
+
+
+class _State:
+    """The batch of a ``newton`` run: iterates, residuals, ``J_k`` there, who is still active."""
+
+    def __init__(self, scene, engine, x, v, period, clip, v_bounds):
+        self.scene, self.engine, self.period, self.clip, self.v_bounds = scene, engine, period, clip, v_bounds
+        self.x, self.v = x, v
+        self.gx, self.gv, self.J = self._residual(x, v)
+        self.res = self._norm(self.gx, self.gv, x, v)
+        self.active = np.ones(x.shape, bool)
+
+    def _residual(self, x, v):
+        X, V, J = self.engine.map_jac(self.scene, x, v, self.period)
+        return X - x, V - v, J
+
+    @staticmethod
+    def _norm(gx, gv, x, v):
+        return np.maximum(np.abs(gx), np.abs(gv)) / np.maximum(1, np.maximum(np.abs(x), np.abs(v)))
+
+    def iterate(self, tol):
+        """One damped step for the active items; returns whether any is left."""
+        self.active &= self.engine.finite(self.res) & np.asarray(self.res > tol, bool)
+        if not self.active.any():
+            return False
+        idx = np.flatnonzero(self.active)
+        dx, dv = solve_step(self.J[idx], self.gx[idx], self.gv[idx])
+        bad = ~(self.engine.finite(dx) & self.engine.finite(dv))
+        self.active[idx[bad]] = False
+        self._line_search(idx[~bad], dx[~bad], dv[~bad])
+        return True
+
+    def _line_search(self, idx, dx, dv):
+        lam = np.ones(idx.size)
+        pending = np.ones(idx.size, bool)
+        for _ in range(MAX_HALVINGS + 1):
+            if not pending.any():
+                return
+            p = np.flatnonzero(pending)
+            xn = self.clip(self.x[idx[p]] + lam[p] * dx[p])
+            vn = np.minimum(np.maximum(self.v[idx[p]] + lam[p] * dv[p], self.v_bounds[0]), self.v_bounds[1])
+            nx, nv, nJ = self._residual(xn, vn)
+            rn = self._norm(nx, nv, xn, vn)
+            take = self.engine.finite(rn) & (rn < self.res[idx[p]])
+            tk = idx[p[take]]
+            self.x[tk], self.v[tk], self.gx[tk], self.gv[tk], self.res[tk], self.J[tk] = (
+                xn[take], vn[take], nx[take], nv[take], rn[take], nJ[take])
+            stuck = ~take & (lam[p] <= 2.0 ** -MAX_HALVINGS)
+            self.active[idx[p[stuck]]] = False          # no descent along the step: give up
+            pending[p[take | stuck]] = False
+            lam[p[~(take | stuck)]] /= 2
+
+
+def multipliers(J):
+    """Eigenvalues of a batch of 2x2 matrices ``(..., 2, 2)``: complex ``(..., 2)`` (float64)."""
+    return np.linalg.eigvals(np.asarray(J, float))
+
+
+def classify(J):
+    """``(kind, stability)`` object arrays for a batch of multiplier matrices (module docstring).
+
+    ``J`` is ``(..., 2, 2)`` (a single 2x2 gives 0-d arrays); a non-finite ``J`` is ``"undefined"``.
+    """
+    J = np.asarray(J, float)
+    if J.shape[-2:] != (2, 2):
+        raise ValueError(f"classify: J must have shape (..., 2, 2), got {J.shape}")
+    finite = np.isfinite(J).all(axis=(-1, -2))
+    Jf = np.where(finite[..., None, None], J, 0.0)
+    tr = Jf[..., 0, 0] + Jf[..., 1, 1]
+    det = np.linalg.det(Jf)
+    lam = np.linalg.eigvals(Jf)
+    mods = np.sort(np.abs(lam), axis=-1)
+    kind = np.full(tr.shape, "undefined", dtype=object)
+    stab = np.full(tr.shape, "undefined", dtype=object)
+    area = finite & (np.abs(det - 1) <= AREA_TOL)
+    para = area & (np.abs(np.abs(tr) - 2) <= PARABOLIC_TOL)
+    kind[area] = np.where(np.abs(tr[area]) < 2, "centre", np.where(tr[area] > 0, "saddle", "flip saddle"))
+    stab[area] = np.where(np.abs(tr[area]) < 2, "neutral", "unstable")
+    kind[para], stab[para] = "parabolic", "neutral"
+    rest = finite & ~area
+    flat = rest & (np.min(np.abs(lam - 1), axis=-1) <= NONISOLATED_TOL)
+    kind[flat], stab[flat] = "non-isolated", "neutral"
+    rest &= ~flat
+    hyperbolic = (mods[..., 0] < 1) & (mods[..., 1] > 1)
+    kind[rest] = np.where(tr[rest] ** 2 - 4 * det[rest] < 0, "focus",
+                          np.where(hyperbolic[rest], "saddle", "node"))
+    stab[rest] = np.where(mods[rest][..., 1] < 1, "stable", "unstable")
+    return kind, stab
+
+
+def is_saddle(kind):
+    """Saddle of either orientation (``saddle`` or ``flip saddle``)."""
+    return np.isin(np.asarray(kind, dtype=object), ["saddle", "flip saddle"])
+
+
+@dataclass
+class PeriodicPoint:
+    """A periodic orbit of ``Phi``: representative state, period, ``J_k``, multipliers and type.
+
+    ``orbit`` lists the ``period`` points ``z, Phi(z), ...`` (float pairs); ``dissip`` says whether
+    the orbit reaches zero velocity (``Omega_dissip``), where ``find_periodic_points`` was asked."""
+
+    x: float
+    v: float
+    period: int
+    J: np.ndarray
+    multipliers: tuple
+    trace: float
+    det: float
+    kind: str
+    stability: str
+    orbit: list = field(default_factory=list)
+    dissip: bool | None = None
+
+    @property
+    def points(self):
+        """The orbit as a ``(period, 2)`` array."""
+        return np.asarray(self.orbit, float)
+
+    def as_dict(self):
+        return {"x": self.x, "v": self.v, "period": self.period, "trace": self.trace, "det": self.det,
+                "multipliers": [complex(m) for m in self.multipliers], "kind": self.kind,
+                "stability": self.stability}
+
+
+def periodic_point(scene, x, v, period):
+    """The ``PeriodicPoint`` at a (converged) state: its orbit, ``J_k`` and type."""
+    pts = orbit_points(scene, x, v, period)
+    _, _, J = map_and_jacobian(scene, [x], [v], period)
+    kind, stab = classify(J[0])
+    tr, det = float(J[0, 0, 0] + J[0, 1, 1]), float(np.linalg.det(J[0]))
+    lam = multipliers(J[0])
+    return PeriodicPoint(float(x), float(v), period, J[0], (complex(lam[0]), complex(lam[1])), tr, det,
+                         str(kind), str(stab), pts)
+
+
+def orbit_points(scene, x, v, period):
+    """``[z, Phi(z), ..., Phi^(period-1)(z)]`` as float pairs (``fast``)."""
+    import fast
+    pts = [(float(x), float(v))]
+    for _ in range(period - 1):
+        X, V = fast.stroboscopic_map(scene, np.array([pts[-1][0]]), np.array([pts[-1][1]]))
+        pts.append((float(X[0]), float(V[0])))
+    return pts
+
+
+def _canonical(l, r, x, v, tol):
+    """A state at a wall is stored after its impact: ``(r, v > 0)`` is the same orbit as ``(r, -v)``."""
+    if abs(x - r) <= tol and v > 0:
+        return r, -v
+    if abs(x - l) <= tol and v < 0:
+        return l, -v
+    return x, v
+
+
+def _minimal_period(pts, dedup):
+    for p in range(1, len(pts)):
+        if len(pts) % p == 0 and all(
+                max(abs(pts[i][0] - pts[i % p][0]), abs(pts[i][1] - pts[i % p][1])) <= dedup
+                for i in range(len(pts))):
+            return p
+    return len(pts)
+
+
+def seed_grid(scene, grid, v_range, x_range=None):
+    """Cell-centred ``grid = (nx, nv)`` seeds over ``x_range`` (default: the gap) times ``v_range``."""
+    l, r = scene.float("l"), scene.float("r")
+    nx, nv = grid
+    if not (isinstance(nx, int) and isinstance(nv, int) and 1 <= nx <= 2000 and 1 <= nv <= 2000):
+        raise ValueError(f"grid must be two ints in [1, 2000], got {grid!r}")
+    x0, x1 = x_range if x_range is not None else (l, r)
+    if not (l <= x0 < x1 <= r) or not v_range[0] < v_range[1]:
+        raise ValueError(f"x_range must lie in [l, r] = [{l}, {r}] and be increasing; v_range increasing")
+    xs = x0 + (np.arange(nx) + 0.5) / nx * (x1 - x0)
+    vs = v_range[0] + (np.arange(nv) + 0.5) / nv * (v_range[1] - v_range[0])
+    X, V = (a.ravel() for a in np.meshgrid(xs, vs, indexing="ij"))
+    return X, V
+
+
+def find_periodic_points(scene, *, period=1, v_range=(-2.0, 2.0), grid=(24, 24), x_range=None,
+                         seeds=None, tol=1e-11, dedup=1e-7, max_iter=MAX_NEWTON):
+    """All period-``period`` orbits ``newton`` reaches from seeds (``fast``).
+
+    Seeds: ``seeds = (x, v)`` if given, else ``seed_grid(scene, grid, v_range, x_range)``; iterates
+    stay within ``v_range`` widened by half its span.  Converged orbits are kept once (a point
+    within ``dedup`` of a kept orbit's point is dropped), at minimal period exactly ``period``,
+    represented by their point of smallest ``(x, v)`` with wall states taken after the impact.
+    Returns ``PeriodicPoint`` objects sorted by ``(x, v)``.
+    """
+    l, r = scene.float("l"), scene.float("r")
+    X, V = seeds if seeds is not None else seed_grid(scene, grid, v_range, x_range)
+    span = v_range[1] - v_range[0]
+    res = newton(scene, X, V, period=period, tol=tol, max_iter=max_iter,
+                 v_bounds=(v_range[0] - span / 2, v_range[1] + span / 2))
+    found: list[PeriodicPoint] = []
+    for xi, vi in zip(res.x[res.converged], res.v[res.converged]):
+        xi, vi = _canonical(l, r, float(xi), float(vi), dedup)
+        if any(max(abs(xi - q[0]), abs(vi - q[1])) <= dedup for p in found for q in p.orbit):
+            continue
+        pts = [_canonical(l, r, a, b, dedup) for a, b in orbit_points(scene, xi, vi, period)]
+        if _minimal_period(pts, dedup) != period:
+            continue
+        p = periodic_point(scene, *min(pts), period)
+        if np.isfinite(p.J).all():
+            p.orbit = pts
+            found.append(p)
+    return sorted(found, key=lambda p: (p.x, p.v))
