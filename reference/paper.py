@@ -1,7 +1,7 @@
 """The paper's closed forms, each checked against an independent derivation and corrected where
 the printed text errs.  Every function cites the paper's equation label; the evidence for each
 erratum (numbers at 50 digits) is in the docstring and is recomputed by
-``tests/test_paper_formulas.py`` and ``cross_check/claims.py``.
+``tests/test_paper_formulas.py`` and ``cross_check/paper/claims/``.
 
 Notation: ``F, f, w = omega, l, r, R = r - l``, ``S_m = sqrt(4 F^2 - m^2 pi^2 f^2)``,
 ``a_m = arcsin(m pi f / (2F))``.  Only mpmath and ``reference.scene`` are imported; every

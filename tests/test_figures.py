@@ -1,4 +1,5 @@
-"""The figure regeneration (issue 7): every figure renders, and the numbers behind them hold.
+"""The figure registry (``cross_check.paper.figures``, issue 7): every figure renders, and the
+numbers behind them hold.
 
 All figures are rendered once at ``--quick`` resolution into a temporary directory (a
 module-scoped fixture shares the computed numbers: the fold, ``R*``); the checks:
@@ -15,8 +16,12 @@ import os
 import numpy as np
 import pytest
 
-from cross_check import figures
-from cross_check import portraits as por
+from cross_check import scenes
+from cross_check.dynamics import portraits as por
+from cross_check.paper import figures
+from cross_check.paper.figures.fold import closed_form_fold
+from cross_check.paper.figures.narrow import central_centre
+from cross_check.paper.figures.resonance import resonance_centre
 from cross_check.tolerances import tol
 
 
@@ -30,6 +35,7 @@ def rendered(tmp_path_factory):
 
 @pytest.mark.parametrize("name", list(figures.FIGURES))
 def test_every_figure_renders_a_png(rendered, name):
+    """One registered draw function per figure, drawn into its PNG."""
     out, done, _ = rendered
     path = os.path.join(out, figures.file_name(name))
     assert done[name][0] == path
@@ -66,7 +72,7 @@ def test_fold_of_the_continuation_is_the_closed_form(rendered):
     assert np.all(np.abs(tr[: max(i - 1, 1)]) < 2) and np.all(tr[i + 2:] > 2)
     # paper eq. fold:bif: f/F = 2/pi, F = 1
     t = tol("fig_fold_f")
-    np.testing.assert_allclose(fold[2], figures.closed_form_fold(1.0), rtol=t.rtol, atol=t.atol)
+    np.testing.assert_allclose(fold[2], closed_form_fold(1.0), rtol=t.rtol, atol=t.atol)
 
 
 def test_fixed_points_exist_just_below_the_fold_and_not_above():
@@ -74,10 +80,10 @@ def test_fixed_points_exist_just_below_the_fold_and_not_above():
     z_star = (None, None)
     counts = {}
     for f in (f_star - 1e-3, f_star + 1e-3):
-        sc = figures.wide(f)
-        fps = figures.periodic_points(sc, (0.0, 20.0, 0.5, 12.0), figures.QUICK)
-        pair = [o for o in fps if not o["dissip"] and o["type"] in ("centre", "saddle")]
-        counts[f > f_star] = sorted(o["type"] for o in pair)
+        sc = scenes.wide(f)
+        fps = por.periodic_points(sc, (0.0, 20.0, 0.5, 12.0), figures.QUICK.newton_seeds)
+        pair = [o for o in fps if not o.dissip and o.kind in ("centre", "saddle")]
+        counts[f > f_star] = sorted(o.kind for o in pair)
     assert counts[False] == ["centre", "saddle"], counts
     assert counts[True] == [], counts
 
@@ -87,7 +93,7 @@ def test_resonance_trace_minus_one_at_the_papers_R(rendered):
     t = tol("fig_resonance_R")
     # paper, caption of fig:resonance: R* ~ 0.8932, four decimals truncated (see the tolerance)
     assert 0.0 <= ctx["R_star"] - 0.8932 < t.atol, ctx["R_star"]
-    z, J = figures.resonance_centre(ctx["R_star"], ctx["R_star_z"] if "R_star_z" in ctx else None)
+    z, J = resonance_centre(ctx["R_star"], ctx["R_star_z"] if "R_star_z" in ctx else None)
     np.testing.assert_allclose(np.trace(J), -1.0, atol=1e-8)
     np.testing.assert_allclose(np.linalg.det(J), 1.0, atol=1e-9)
 
@@ -104,7 +110,7 @@ def test_birkhoff_classifier_on_maps_with_known_answers():
     # an irrational rotation of the circle, seen through (cos, sin): regular
     theta = 2 * np.pi * (np.sqrt(5) - 1) / 2 * np.arange(n + 1)
     xs, vs = np.cos(theta)[:, None], np.sin(theta)[:, None]
-    assert por.birkhoff_digits(xs, vs)[0] > figures.regular_threshold() + 3
+    assert por.birkhoff_digits(xs, vs)[0] > por.regular_threshold() + 3
     # the Chirikov standard map at K = 6 (fully chaotic): chaotic
     p, q = 0.3, 0.1
     pts = []
@@ -113,20 +119,20 @@ def test_birkhoff_classifier_on_maps_with_known_answers():
         p = (p + 6.0 * np.sin(q)) % (2 * np.pi)
         q = (q + p) % (2 * np.pi)
     pts = np.array(pts)
-    assert por.birkhoff_digits(pts[:, :1], pts[:, 1:])[0] < figures.regular_threshold() - 1
+    assert por.birkhoff_digits(pts[:, :1], pts[:, 1:])[0] < por.regular_threshold() - 1
 
 
 def test_birkhoff_classifier_on_the_narrow_scene():
-    sc = figures.narrow()
-    fps = figures.periodic_points(sc, (-0.05, 0.85, -2.6, 2.6), figures.QUICK)
-    central = figures.central_centre([o for o in fps if o["type"] == "centre"])
-    zc = central["points"][0]
+    sc = scenes.narrow()
+    fps = por.periodic_points(sc, (-0.05, 0.85, -2.6, 2.6), figures.QUICK.newton_seeds)
+    central = central_centre([o for o in fps if o.kind == "centre"])
+    zc = central.points[0]
     # a start 1e-3 off the central centre lies on an invariant curve of its island (Fig. 1b);
     # a start in the middle band away from the island lies in the chaotic sea (Fig. 1a)
     x0 = np.array([zc[0] + 1e-3, CHAOTIC_START[0]])
     v0 = np.array([zc[1], CHAOTIC_START[1]])
     xs, vs, first = por.run_orbits(sc, x0, v0, 400)
-    cls, digits = figures.classify(sc, xs, vs, first)
+    cls, digits = por.orbit_classes(sc, xs, vs, first)
     assert list(cls) == ["regular", "chaotic"], digits
 
 
