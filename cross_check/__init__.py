@@ -1,0 +1,14 @@
+"""The front door of the suite: both engines on the same work, the report, the claims, the
+figures and the golden data (``python -m cross_check --help``).
+
+Rooms, each importing only those below it (the import contracts in ``pyproject.toml``):
+
+* ``__main__``    -- the CLI, one line per command;
+* ``report/``     -- the markdown V&V report and its plots;
+* ``paper/``      -- the paper's claims and figures, each a registry;
+* ``golden``      -- the golden data, written from the reference;
+* ``scenes``      -- the paper's named scenes, sample states and hard states;
+* ``dynamics/``   -- one Newton for periodic points, one classifier, continuation, portraits;
+* ``agreement/``  -- comparing two integrators: itinerary first, then digits; hard cases; scipy;
+* ``tolerances``  -- the one table of named tolerances, each with its source.
+"""

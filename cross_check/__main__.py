@@ -4,8 +4,8 @@ Commands (each has its own ``--help``):
 
 * ``report``  -- accuracy/performance report (markdown + PNG), ``cross_check.report``;
 * ``golden``  -- write the golden data from the reference, ``cross_check.golden``;
-* ``claims``  -- check the paper's claims, ``cross_check.claims`` (if present);
-* ``figures`` -- redraw the paper's figures, ``cross_check.figures`` (if present).
+* ``claims``  -- check the paper's claims, ``cross_check.paper.claims``;
+* ``figures`` -- redraw the paper's figures, ``cross_check.paper.figures``.
 
 Bad arguments give one line on stderr and exit status 2 (argparse's convention).
 """
@@ -15,10 +15,10 @@ import importlib
 import sys
 
 COMMANDS = {
-    "report": ("cross_check.report", "accuracy/performance report: fast vs reference vs scipy (report/)"),
+    "report": ("cross_check.report", "accuracy/performance report: fast vs reference vs scipy, claims (report/)"),
     "golden": ("cross_check.golden", "write golden data from the reference at 40 digits (tests/data/golden/)"),
-    "claims": ("cross_check.claims", "check the paper's claims one by one"),
-    "figures": ("cross_check.figures", "redraw the paper's figures as PNG"),
+    "claims": ("cross_check.paper.claims", "check the paper's claims one by one"),
+    "figures": ("cross_check.paper.figures", "redraw the paper's figures as PNG"),
 }
 
 USAGE = "usage: python -m cross_check {" + ",".join(COMMANDS) + "} [options]"

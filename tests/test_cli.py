@@ -97,15 +97,33 @@ def test_quick_report_runs_end_to_end(tmp_path):
     assert len([ln for ln in proc.stderr.splitlines() if ln.startswith("[")]) >= 4   # progress lines
 
 
-def test_report_renders_the_claims_table_of_run_claims(monkeypatch):
-    from cross_check import report
+class _FakeClaim:
+    def __init__(self, row):
+        self.row = row
 
-    fake = types.ModuleType("cross_check.claims")
-    fake.run_claims = lambda quick: [{"id": "fold", "statement": "f/F = 2/pi |fold|", "verdict": "reproduced",
-                                      "corrected": None, "note": "quick" if quick else "full", "numbers": {}}]
-    monkeypatch.setitem(sys.modules, "cross_check.claims", fake)
-    lines = report.claims_section(True, lambda msg: None)
-    assert lines[0] == "| id | verdict | statement | corrected | note |"
-    assert lines[2] == "| fold | reproduced | f/F = 2/pi /fold/ |  | quick |"
-    fake.run_claims = lambda quick: 1 / 0
-    assert "run_claims failed" in report.claims_section(False, lambda msg: None)[0]
+    def run(self, quick):
+        if self.row is None:
+            raise ZeroDivisionError("division by zero")
+        return dict(self.row, note="quick" if quick else "full")
+
+
+def test_report_renders_one_row_per_registered_claim():
+    from cross_check.report import sections
+
+    good = _FakeClaim({"id": "fold", "statement": "f/F = 2/pi |fold|", "verdict": "reproduced",
+                       "corrected": None, "numbers": {}})
+    seen = []
+    lines = sections.claims_section(True, seen.append, claims={"fold": good, "broken": _FakeClaim(None)})
+    assert lines[0] == "| id | verdict | statement | corrected | note | seconds |"
+    assert lines[2].startswith("| fold | reproduced | f/F = 2/pi /fold/ |  | quick | ")
+    # a claim that raises is a FAILED row with its error, and the others still run
+    assert lines[3].startswith("| broken | FAILED | ZeroDivisionError: division by zero |")
+    assert seen == ["claim fold: reproduced", "claim broken: FAILED"]
+
+
+def test_report_iterates_the_claims_registry():
+    from cross_check.paper.claims import CLAIMS
+    from cross_check.report import sections
+
+    lines = sections.claims_section(True, lambda msg: None, claims={k: CLAIMS[k] for k in ("lift",)})
+    assert len(lines) == 3 and lines[2].startswith("| lift | erratum |")

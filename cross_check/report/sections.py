@@ -1,0 +1,199 @@
+"""The report's sections: agreement per scene, the hard cases, solve_ivp's itineraries, the
+claims table, the machine.  Each section is a function returning markdown lines (and its data)."""
+from __future__ import annotations
+
+import math
+import os
+import platform
+import time
+
+import mpmath
+import numpy as np
+
+from cross_check import scenes
+from cross_check.agreement import baseline, compare
+from cross_check.agreement.compare import Summary
+from cross_check.tolerances import tol
+
+REF_DPS = 50
+TRUTH_DPS = 120
+
+
+# --- 1. per-scene agreement -----------------------------------------------------------
+def _batch(cases):
+    return np.array([c.float()[0] for c in cases]), np.array([c.float()[1] for c in cases])
+
+
+def scene_agreement(name: str, n_sample: int, n_ten: int) -> dict:
+    """Fast vs reference on the sample states of one scene (see ``compare``)."""
+    sc = scenes.scene(name)
+    cases = scenes.sample_states(name, n_sample)
+    X, V = _batch(cases)
+    phis, fail = compare.fast_safe(compare.fast_map, sc, X, V)
+    f_evs, fail_e = compare.fast_safe(compare.fast_events, sc, X, V)
+    band = compare.band_mask(sc, X, V)
+    rows, raw = [], []
+    for i, c in enumerate(cases):
+        r_phi = compare.ref_map(sc, c, 1, REF_DPS)
+        r_evs = compare.ref_events(sc, c, None, REF_DPS)
+        ca = compare.compare_case(c.name, r_evs, f_evs[i], r_phi, phis[i], scene=sc)
+        ca.in_band = bool(band[i])
+        rows.append(ca)
+        if phis[i] is not None:
+            raw.append(min(compare.digits(phis[i][0], r_phi[0]), compare.digits(phis[i][1], r_phi[1])))
+    out = compare.summarize(rows)
+    out["failures"] = {cases[i].name: msg for i, msg in {**fail_e, **fail}.items()}
+    ten = []
+    for c in cases[:n_ten]:
+        got, _ = compare.fast_safe(compare.fast_map, sc, *map(np.array, zip(c.float())), periods=10)
+        if got[0] is not None:
+            ref10 = compare.ref_map(sc, c, 10, REF_DPS)
+            ten.append(min(compare.digits(got[0][0], ref10[0]), compare.digits(got[0][1], ref10[1])))
+    out["map10"] = Summary.of(ten)
+    out["map_raw"] = Summary.of(raw)
+    return out
+
+
+def agreement_table(results: dict) -> list[str]:
+    lines = ["| scene | states | same itinerary | band | event t (med/worst) | event state | "
+             "Phi digits | Phi^10 digits | mismatches outside band | fast failed |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for name, s in results.items():
+        if s is None:
+            lines.append(f"| `{name}` | FAILED (see Failures) |" + " |" * 8)
+            continue
+        share = f"{100 * s['itinerary_share']:.0f}%"
+        lines.append(f"| `{name}` | {s['n']} | {share} | {len(s['band'])} | "
+                     f"{s['event_time']} | {s['event_state']} | {s['map_raw']} | {s['map10']} | "
+                     f"{', '.join(s['mismatch_outside_band']) or '-'} | {len(s['failures']) or '-'} |")
+    failures = [f"- `{name}` / {case}: {msg}" for name, s in results.items() if s is not None
+                for case, msg in s["failures"].items()]
+    if failures:
+        lines += ["", "fast raised on these states:", ""] + failures
+    return lines
+
+
+# --- 2. hard cases --------------------------------------------------------------------
+def _scipy_on(sc, x, v, ref_kinds, r_phi):
+    try:
+        b = baseline.stroboscopic(sc, x, v, 1, "DOP853", 1e-10)
+        same = "yes" if tuple(e.kind for e in compare.canonical(b.events, sc)) == ref_kinds else "**no**"
+        return same, min(compare.digits(b.x, r_phi[0]), compare.digits(b.v, r_phi[1]))
+    except RuntimeError as exc:
+        return f"failed: {exc}"[:40], math.nan
+
+
+def hard_case_rows(name: str) -> list[dict]:
+    """Both integrators (and scipy) on the hard cases of a scene."""
+    sc = scenes.scene(name)
+    cases = scenes.hard_states(name)
+    X, V = _batch(cases)
+    phis, _ = compare.fast_safe(compare.fast_map, sc, X, V)
+    f_evs, _ = compare.fast_safe(compare.fast_events, sc, X, V)
+    band = compare.band_mask(sc, X, V)
+    rows = []
+    for i, c in enumerate(cases):
+        fc = c.rounded()
+        r_exact = compare.ref_events(sc, c, None, REF_DPS)
+        r_float = compare.ref_events(sc, fc, None, REF_DPS)
+        r_phi = compare.ref_map(sc, fc, 1, REF_DPS)
+        ca = compare.compare_case(c.name, r_float, f_evs[i], r_phi, phis[i], scene=sc)
+        scipy_same, scipy_digits = _scipy_on(sc, X[i], V[i], ca.ref_kinds, r_phi)
+        text = compare.itinerary_text
+        rows.append({"scene": name, "case": c.name, "built": c.kind, "ref_exact": text(r_exact, sc),
+                     "ref_float": text(r_float, sc), "fast": text(f_evs[i], sc), "same": ca.same_itinerary,
+                     "digits": min(ca.map_digits), "stable": not band[i], "scipy_same": scipy_same,
+                     "scipy_digits": scipy_digits, "ref_band": compare.reference_in_band(sc, fc)})
+    return rows
+
+
+def hard_table(rows) -> list[str]:
+    lines = ["| scene | case | built around | reference (exact state) | reference (float64 state) | fast | "
+             "fast = ref? | fast Phi digits | exact itinerary stable (+-ulps)? | fast stable? | "
+             "scipy DOP853 1e-10 same? (digits) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| `{r['scene']}` | {r['case']} | {r['built']} | {r['ref_exact']} | {r['ref_float']} | "
+                     f"{r['fast']} | {'yes' if r['same'] else '**no**'} | {r['digits']:.1f} | "
+                     f"{'**no** (band)' if r['ref_band'] else 'yes'} | {'yes' if r['stable'] else '**no**'} | "
+                     f"{r['scipy_same']} ({r['scipy_digits']:.1f}) |")
+    return lines
+
+
+# --- 4. solve_ivp's itineraries ---------------------------------------------------------
+def itinerary_misses(names, n_sample: int, progress=None) -> dict:
+    """One-period itineraries of solve_ivp against the reference (dps 50), canonical form.
+
+    For RK45 and DOP853 at rtol 1e-6 and 1e-10, on the sample states and the float64
+    roundings of the hard cases of the scenes ``names``: ``{(method, rtol): [(where,
+    reference kinds, baseline kinds or None if it raised)]}``.
+    """
+    runs = {(m, r): [] for m in baseline.METHODS for r in (1e-6, 1e-10)}
+    for name in names:
+        sc = scenes.scene(name)
+        for c in scenes.sample_states(name, n_sample) + [h.rounded() for h in scenes.hard_states(name)]:
+            ref = [e.kind for e in compare.canonical(compare.ref_events(sc, c, None, 50), sc)]
+            for method, rtol in runs:
+                try:
+                    got = [e.kind for e in compare.canonical(
+                        baseline.stroboscopic(sc, *c.float(), 1, method, rtol).events, sc)]
+                except RuntimeError:
+                    got = None
+                runs[(method, rtol)].append((f"{name}/{c.name}", ref, got))
+        if progress:
+            progress(f"scipy itineraries: {name}")
+    return runs
+
+
+def scipy_itineraries(hard_scenes, n_sample, progress) -> list[str]:
+    """Where solve_ivp misses or invents events (``itinerary_misses``), as a table."""
+    runs = itinerary_misses(hard_scenes, n_sample, progress)
+    lines = ["| solver | states | same itinerary | fewer impacts (missed) | more impacts | other difference | "
+             "failed | examples of misses |", "|---|---|---|---|---|---|---|---|"]
+    for (method, rtol), rows in runs.items():
+        same = sum(1 for _, a, b in rows if a == b)
+        failed = [w for w, _, b in rows if b is None]
+        fewer = [w for w, a, b in rows if b is not None and b.count("impact") < a.count("impact")]
+        more = [w for w, a, b in rows if b is not None and b.count("impact") > a.count("impact")]
+        other = len(rows) - same - len(failed) - len(fewer) - len(more)
+        lines.append(f"| {method} rtol {rtol:.0e} | {len(rows)} | {same} | {len(fewer)} | {len(more)} | {other} | "
+                     f"{len(failed)} | {', '.join(fewer[:3]) or '-'} |")
+    return lines
+
+
+# --- 5. claims, 6. machine --------------------------------------------------------------
+def claims_section(quick: bool, progress, claims=None) -> list[str]:
+    """The claims table, one registered claim at a time (``claims``: id -> object with ``run(quick)``;
+    default the registry ``cross_check.paper.claims.CLAIMS``).  A failing claim is reported in its row."""
+    if claims is None:
+        from cross_check.paper.claims import CLAIMS as claims
+    rows = []
+    for cid, c in claims.items():
+        t0 = time.perf_counter()
+        try:
+            rows.append(c.run(quick))
+        except Exception as exc:  # noqa: BLE001 -- one claim's failure is reported, not fatal
+            rows.append({"id": cid, "verdict": "FAILED", "statement": f"{type(exc).__name__}: {str(exc)[:200]}",
+                         "corrected": None, "note": ""})
+        rows[-1]["seconds"] = round(time.perf_counter() - t0, 2)
+        progress(f"claim {cid}: {rows[-1]['verdict']}")
+    keys = ("id", "verdict", "statement", "corrected", "note", "seconds")
+
+    def cell(d, k):
+        return " ".join(str("" if d.get(k) is None else d[k]).split())[:160].replace("|", "/")
+
+    out = ["| " + " | ".join(keys) + " |", "|" + "---|" * len(keys)]
+    return out + ["| " + " | ".join(cell(d, k) for k in keys) + " |" for d in rows]
+
+
+def machine_section(n_sample: int, quick: bool) -> list[str]:
+    import matplotlib
+    import scipy
+
+    return [f"- machine: {platform.machine()}, {os.cpu_count()} cores, {platform.platform()}",
+            f"- python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
+            f"mpmath {mpmath.__version__} (backend {mpmath.libmp.BACKEND}), matplotlib {matplotlib.__version__}",
+            f"- mode: {'quick' if quick else 'full'}; sample seed {scenes.SEED} (+crc32 of the scene name); "
+            f"{n_sample} sample states per scene, reference at dps {REF_DPS}, truth at dps {TRUTH_DPS}",
+            f"- near-grazing band: itinerary change under {tol('compare_band_ulps').rtol:g} ulps "
+            f"(`compare_band_ulps`)"]
