@@ -62,7 +62,7 @@ def fig_three_per(q, ctx):
     conv = first[n_probe:] <= q.n_iter
     notes = [f"centre ({zc[0]:.5f}, {zc[1]:.5f}), saddle ({zs[0]:.5f}, {zs[1]:.5f}) multipliers "
              f"{lam.min():.4f}, {lam.max():.4f}; period-3 non-sticking orbits: "
-             + ", ".join(f"{o.kind} at ({o.points[0, 0]:.4f}, {o.points[0, 1]:.4f})" for o in p3)
+             + ", ".join(f"{o.kind} at ({o.points[0, 0]:.4f}, {o.points[0, 1]:.4f})" for o in sorted(p3, key=lambda o: o.kind))
              + f"; {int(conv.sum())}/{conv.size} perturbed unstable period-3 starts reach Omega_dissip "
                f"within {q.n_iter} periods"]
     cap = ("fig:three:per -- F=1, f=0.05, omega=2pi, l=-1, r=1; black/red stars: centre/saddle, "
