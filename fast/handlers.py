@@ -23,20 +23,10 @@ from . import params as p
 from . import state as q
 from .flight import factors
 from .jit import kernel
+from .output import record
 from .modes import chatter_state, chatter_tail, exit_time, slides, stick_exit, wall_exit
 
 EPS = 2.0 ** -52
-
-
-@kernel(inline=True)
-def record(ev, st, kind, t, x, v, vb, cnt):
-    """Append an event to the state's log ``ev`` (kept up to its capacity; ``NEV`` counts
-    them all)."""
-    k = int(st[q.NEV])
-    st[q.NEV] += 1.0
-    if k < st[q.CAP]:
-        j = 6 * k
-        ev[j], ev[j + 1], ev[j + 2], ev[j + 3], ev[j + 4], ev[j + 5] = kind, t, x, v, vb, cnt
 
 
 @kernel(inline=True)

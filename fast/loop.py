@@ -30,6 +30,7 @@ from . import state as q
 from .flight import evaluate
 from .handlers import finish, flight_matrix, handle
 from .jit import data_pointer, kernel
+from .output import store
 from .params import params  # noqa: F401  (the engine's params, fast.batch's contract)
 from .precise import at_end, at_event
 from .roots import plan
@@ -149,21 +150,6 @@ def run_range(P, x, v, t_end, t_end_lo, jac, max_events, out_x, out_v, out_zv, o
     Pp, st, ev = data_pointer(P), data_pointer(st_own), data_pointer(ev_own)
     for i in range(i0, i1):
         status = run_state(Pp, x[i], v[i], t_end, t_end_lo, jac, max_events, st, ev)
-        xf, vf = st[q.XF], st[q.VF]
-        if status == OK and not (math.isfinite(xf) and math.isfinite(vf)):
-            status = NON_FINITE
-        out_status[i] = status
-        out_paths[i] = int(st[q.PATHS])
-        out_x[i], out_v[i] = xf, vf
-        out_zv[i] = 1 if st[q.ZV] != 0.0 else 0
-        if jac:
-            for k in range(4):
-                out_J[i, k] = st[q.J11 + k]
-        nev = int(st[q.NEV])
-        out_nev[i] = nev
-        for k in range(min(nev, cap)):
-            log_kind[i, k] = int(ev[6 * k])
-            log_t[i, k], log_x[i, k] = ev[6 * k + 1], ev[6 * k + 2]
-            log_v[i, k], log_vb[i, k] = ev[6 * k + 3], ev[6 * k + 4]
-            log_cnt[i, k] = int(ev[6 * k + 5])
+        store(i, status, OK, NON_FINITE, st, ev, jac, out_x, out_v, out_zv, out_J, out_nev, out_status,
+              out_paths, log_kind, log_t, log_x, log_v, log_vb, log_cnt)
     return st_own.size + ev_own.size                 # the owners live to the end

@@ -39,6 +39,7 @@ from . import batch
 from . import dop853 as dp
 from . import state as q
 from .jit import data_pointer, kernel
+from .output import record, store
 from .params import check_scene
 
 EPS = 2.0 ** -52
@@ -249,15 +250,6 @@ def first_above(amp, level, w, t):
 
 
 @kernel(inline=True)
-def _record(st, ev, kind, t, x, v, vb, cnt):
-    k = int(st[q.NEV])
-    st[q.NEV] += 1.0
-    if k < st[q.CAP]:
-        j = 6 * k
-        ev[j], ev[j + 1], ev[j + 2], ev[j + 3], ev[j + 4], ev[j + 5] = kind, t, x, v, vb, cnt
-
-
-@kernel(inline=True)
 def _times(st, a11, a12, a21, a22):
     """``J <- M J`` with ``M = [[a11, a12], [a21, a22]]``."""
     j11, j12, j21, j22 = st[q.J11], st[q.J12], st[q.J21], st[q.J22]
@@ -302,17 +294,17 @@ def _impact(P, st, ev, t, vb, t_end, jac):
         return -1, t
     st[q.S] = -s
     if abs(vb) <= tiny_v:                           # a graze: at rest on the wall reached
-        _record(st, ev, q.K_CONTACT, t, wall, 0.0, vb, 0)
+        record(ev, st, q.K_CONTACT, t, wall, 0.0, vb, 0)
         return _rest_on(P, st, jac, s), t
-    _record(st, ev, q.K_IMPACT, t, wall, -e * vb, vb, 0)
+    record(ev, st, q.K_IMPACT, t, wall, -e * vb, vb, 0)
     if e == 0.0 and s * A >= -f:                    # at rest, held against the wall
-        _record(st, ev, q.K_CONTACT, t, wall, 0.0, 0.0, 0)
+        record(ev, st, q.K_CONTACT, t, wall, 0.0, 0.0, 0)
         return _rest_on(P, st, jac, s), t
     if s * A > f and e > 0.0:
         delta, err = chatter_tail(P, s * A, e * abs(vb))
         if err <= EPS * max(1.0, abs(t_end)) and t + delta <= t_end:
             st[q.PATHS] = float(int(st[q.PATHS]) | q.PATH_CHATTER)
-            _record(st, ev, q.K_CHATTER, t + delta, wall, 0.0, 0.0, int(abs(st[q.CHN])))
+            record(ev, st, q.K_CHATTER, t + delta, wall, 0.0, 0.0, int(abs(st[q.CHN])))
             return _rest_on(P, st, jac, s), t + delta
     if jac:
         _times(st, -e, 0.0, ((1.0 + e) * A + (1.0 - e) * s * f) / vb, -e)
@@ -340,7 +332,7 @@ def _velocity_zero(P, st, ev, t, x, jac):
     tiny_x = 16 * EPS * max(max(abs(P[L]), abs(P[R])), P[R] - P[L])
     for side in (1.0, -1.0):
         if abs(x - (P[R] if side > 0.0 else P[L])) <= tiny_x:
-            _record(st, ev, q.K_CONTACT, t, P[R] if side > 0.0 else P[L], 0.0, 0.0, 0)
+            record(ev, st, q.K_CONTACT, t, P[R] if side > 0.0 else P[L], 0.0, 0.0, 0)
             return _rest_on(P, st, jac, side)
     A = _force(P, x, t)
     if f == 0.0:
@@ -348,12 +340,12 @@ def _velocity_zero(P, st, ev, t, x, jac):
         return FLIGHT
     st[q.PATHS] = float(int(st[q.PATHS]) | q.PATH_FRICTION)
     if s * A < -f:
-        _record(st, ev, q.K_TURN, t, x, 0.0, 0.0, 0)
+        record(ev, st, q.K_TURN, t, x, 0.0, 0.0, 0)
         st[q.S] = -s
         if jac:
             _times(st, 1.0, 0.0, 0.0, (abs(A) - f) / (abs(A) + f))
         return FLIGHT
-    _record(st, ev, q.K_STICK, t, x, 0.0, 0.0, 0)
+    record(ev, st, q.K_STICK, t, x, 0.0, 0.0, 0)
     st[q.CHN] = 0.0
     if jac:
         _times(st, 1.0, 0.0, 0.0, 0.0)
@@ -374,7 +366,7 @@ def _leave_rest(P, st, ev, mode, t, x, t_end):
         t_next, s_next, kind = min(up, down), (1.0 if up <= down else -1.0), q.K_SLIP
     if not t_next <= t_end:
         return math.inf
-    _record(st, ev, kind, t_next, x, 0.0, 0.0, 0)
+    record(ev, st, kind, t_next, x, 0.0, 0.0, 0)
     st[q.S] = s_next
     return t_next
 
@@ -397,12 +389,12 @@ def _start(P, st, ev, x, v, t_end, jac):
     st[q.ZV] = 1.0
     if x == P[R] or x == P[L]:
         side = 1.0 if x >= 0.5 * (P[L] + P[R]) else -1.0
-        _record(st, ev, q.K_CONTACT, 0.0, x, 0.0, 0.0, 0)
+        record(ev, st, q.K_CONTACT, 0.0, x, 0.0, 0.0, 0)
         return _rest_on(P, st, jac, side), 0.0, x, 0.0
     if P[FF] == 0.0:
         st[q.S] = 1.0 if _force(P, x, 0.0) >= 0.0 else -1.0
         return FLIGHT, 0.0, x, 0.0
-    _record(st, ev, q.K_STICK, 0.0, x, 0.0, 0.0, 0)
+    record(ev, st, q.K_STICK, 0.0, x, 0.0, 0.0, 0)
     if jac:
         _times(st, 1.0, 0.0, 0.0, 0.0)
     return STICK, 0.0, x, 0.0
@@ -469,22 +461,8 @@ def run_range(P, x, v, t_end, t_end_lo, jac, max_events, out_x, out_v, out_zv, o
     Pp, st, wk, ev = data_pointer(P), data_pointer(st_own), data_pointer(wk_own), data_pointer(ev_own)
     for i in range(i0, i1):
         status = run_state(Pp, x[i], v[i], t_end, jac, max_events, st, wk, ev)
-        xf, vf = st[q.XF], st[q.VF]
-        if status == OK and not (math.isfinite(xf) and math.isfinite(vf)):
-            status = NON_FINITE
-        out_status[i], out_paths[i] = status, int(st[q.PATHS])
-        out_x[i], out_v[i] = xf, vf
-        out_zv[i] = 1 if st[q.ZV] != 0.0 else 0
-        if jac:
-            for k in range(4):
-                out_J[i, k] = st[q.J11 + k]
-        nev = int(st[q.NEV])
-        out_nev[i] = nev
-        for k in range(min(nev, cap)):
-            log_kind[i, k] = int(ev[6 * k])
-            log_t[i, k], log_x[i, k] = ev[6 * k + 1], ev[6 * k + 2]
-            log_v[i, k], log_vb[i, k] = ev[6 * k + 3], ev[6 * k + 4]
-            log_cnt[i, k] = int(ev[6 * k + 5])
+        store(i, status, OK, NON_FINITE, st, ev, jac, out_x, out_v, out_zv, out_J, out_nev, out_status,
+              out_paths, log_kind, log_t, log_x, log_v, log_vb, log_cnt)
     return st_own.size + wk_own.size + ev_own.size      # the owners live to the end
 
 
