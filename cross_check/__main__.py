@@ -16,7 +16,7 @@ import sys
 
 COMMANDS = {
     "report": ("cross_check.report", "accuracy/performance report: fast vs reference vs scipy, claims (report/)"),
-    "golden": ("cross_check.golden", "write golden data from the reference at 40 digits (tests/data/golden/)"),
+    "golden": ("cross_check.golden", "write golden data from the reference at 40 digits (cross_check/data/golden/)"),
     "claims": ("cross_check.paper.claims", "check the paper's claims one by one"),
     "figures": ("cross_check.paper.figures", "redraw the paper's figures as PNG"),
 }

@@ -1,7 +1,8 @@
 """Golden data: the reference's answers on the paper's scenes, at 40 significant digits.
 
 ``python -m cross_check golden [--out DIR] [--scenes NAME ...]`` writes one JSON file per scene
-(default ``tests/data/golden/``).  Each file holds, for every state of interest
+(default ``cross_check/data/golden/``, shipped as package data: ``files()``
+reads it with ``importlib.resources``, so a ``pip install`` of the suite has it too).  Each file holds, for every state of interest
 (``cross_check.scenes.states_of_interest``: a seeded sample and the constructed hard cases):
 
 * the state (strings; ``exact`` says whether they denote float64 numbers or decimals);
@@ -40,7 +41,7 @@ CHECK_DPS = GOLDEN_DPS + 20
 DIGITS = 40
 N_SAMPLE = 8
 FORMAT = 1
-DEFAULT_DIR = pathlib.Path(__file__).resolve().parents[1] / "tests" / "data" / "golden"
+DEFAULT_DIR = pathlib.Path(__file__).resolve().parent / "data" / "golden"   # where `golden` writes in a checkout
 
 
 class GoldenError(RuntimeError):
@@ -238,9 +239,17 @@ def generate(names=None, out_dir=DEFAULT_DIR, n_sample: int = N_SAMPLE, progress
     return paths
 
 
-def load(name: str, directory=DEFAULT_DIR) -> dict:
-    """Read the golden file of a scene."""
-    return json.loads((pathlib.Path(directory) / (scenes.slug(name) + ".json")).read_text())
+def files():
+    """The shipped golden data directory (``importlib.resources``: works in a checkout and from a
+    wheel alike)."""
+    from importlib import resources
+    return resources.files("cross_check") / "data" / "golden"
+
+
+def load(name: str, directory=None) -> dict:
+    """Read the golden file of a scene (default: the shipped data, ``files()``)."""
+    base = files() if directory is None else pathlib.Path(directory)
+    return json.loads((base / (scenes.slug(name) + ".json")).read_text())
 
 
 def main(argv=None) -> int:
@@ -249,7 +258,7 @@ def main(argv=None) -> int:
 
     parser = argparse.ArgumentParser(prog="python -m cross_check golden",
                                      description="write the golden data (reference at 40 digits)")
-    parser.add_argument("--out", default=str(DEFAULT_DIR), help="output directory (default tests/data/golden)")
+    parser.add_argument("--out", default=str(DEFAULT_DIR), help="output directory (default cross_check/data/golden)")
     parser.add_argument("--scenes", nargs="+", metavar="NAME", choices=list(scenes.SCENES),
                         help="only these scenes (default: all)")
     parser.add_argument("--n-sample", type=int, default=N_SAMPLE, help=f"sample states per scene ({N_SAMPLE})")

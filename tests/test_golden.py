@@ -1,4 +1,4 @@
-"""Golden-data regression: both integrators against tests/data/golden/ (cross_check.golden).
+"""Golden-data regression: both integrators against the shipped golden data, cross_check/data/golden/ (cross_check.golden).
 
 Each golden file holds the reference's answers at 40 digits (dps 90, checked at dps 110) for
 the states of interest of one scene.  Tolerances come from cross_check/tolerances.py:
