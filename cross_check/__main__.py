@@ -5,7 +5,8 @@ Commands (each has its own ``--help``):
 * ``report``  -- accuracy/performance report (markdown + PNG), ``cross_check.report``;
 * ``golden``  -- write the golden data from the reference, ``cross_check.golden``;
 * ``claims``  -- check the paper's claims, ``cross_check.paper.claims``;
-* ``figures`` -- redraw the paper's figures, ``cross_check.paper.figures``.
+* ``figures`` -- redraw the paper's figures, ``cross_check.paper.figures``;
+* ``score``   -- score an integrator against the golden data, ``cross_check.score``.
 
 Bad arguments give one line on stderr and exit status 2 (argparse's convention).
 """
@@ -19,6 +20,7 @@ COMMANDS = {
     "golden": ("cross_check.golden", "write golden data from the reference at 40 digits (cross_check/data/golden/)"),
     "claims": ("cross_check.paper.claims", "check the paper's claims one by one"),
     "figures": ("cross_check.paper.figures", "redraw the paper's figures as PNG"),
+    "score": ("cross_check.score", "score any integrator (MODULE:NAME) against the golden data"),
 }
 
 USAGE = "usage: python -m cross_check {" + ",".join(COMMANDS) + "} [options]"

@@ -340,3 +340,28 @@ TOLERANCES.update({
             "separates a rounding difference from a changed computation, which moves the fixed "
             "points' last digits by >= 1e-9"),
 })
+
+# --- the scorecard's grades (cross_check/score/, issue 16) -------------------------------
+TOLERANCES.update({
+    "score_grade_a": Tol(
+        rtol=1e-13, atol=1e-13,
+        why="grade A: the worst one-period error outside the band within 1e-13 (13 digits), the "
+            "accuracy of a float64 event-driven engine with closed-form flights (fast: >= 14 digits "
+            "outside the band, fast_one_period_max = 1e-13)"),
+    "score_grade_b": Tol(
+        rtol=1e-10, atol=1e-10,
+        why="grade B: 10 digits, what a general-purpose integrator at its tightest tolerance "
+            "(scipy DOP853, rtol 1e-10 ... 1e-12) reaches on a period with a few events"),
+    "score_flag": Tol(
+        rtol=1e-8, atol=1e-8,
+        why="below 8 digits a kind is flagged (grade F), as is any missed or invented event or "
+            "failure outside the band: a physics fault (friction's sign, a skipped graze, a "
+            "doubled restitution) moves Phi by >= 1e-6 on the cases of its kind, while a correct "
+            "integrator at rtol 1e-10 keeps >= 8 digits over one period (the report's work-precision "
+            "table); the margin of 2 decades on either side separates the two"),
+    "golden_case_float64": Tol(
+        rtol=1e-12, atol=1e-12,
+        why="the pytest plugin's default for a float64 integrator against a golden case outside "
+            "the band: 1e-12 relative to max(1, |Phi|), i.e. within ~1e4 ulp of the 40-digit "
+            "answer (fast holds 1e-13, fast_one_period_max)"),
+})

@@ -94,10 +94,16 @@ def _rest(p, t0, x, threshold, direction, t_end):
 
 
 def run(scene, x0: float, v0: float, t_end: float, method: str = "DOP853", rtol: float = 1e-10,
-        max_events: int = 20000) -> BaselineRun:
-    """Integrate from ``(x0, v0)`` at ``t = 0`` to ``t_end`` (see the module docstring)."""
-    if method not in METHODS:
+        max_events: int = 20000, flight=None) -> BaselineRun:
+    """Integrate from ``(x0, v0)`` at ``t = 0`` to ``t_end`` (see the module docstring).
+
+    ``flight(p, t0, x0, v0, s, t_end, rtol, atol) -> (t, (x, v), name, nfev)`` replaces
+    solve_ivp's smooth flight (``name``: ``"r"``, ``"l"``, ``"v0"`` or ``"end"``): the same careful
+    event handling around another integrator (``cross_check.score.adapters``' heyoka)."""
+    if flight is None and method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    if flight is None:
+        flight = lambda *a: _flight(*a[:6], method, *a[6:])      # noqa: E731
     if not 1e-14 <= rtol <= 1e-1:
         raise ValueError(f"rtol must be in [1e-14, 1e-1], got {rtol}")
     p = _Params(scene)
@@ -113,7 +119,7 @@ def run(scene, x0: float, v0: float, t_end: float, method: str = "DOP853", rtol:
         if t >= t_end:
             break
         if mode == "flight":
-            te, ye, name, nfev = _flight(p, t, x, v, s, t_end, method, rtol, atol)
+            te, ye, name, nfev = flight(p, t, x, v, s, t_end, rtol, atol)
             out.nfev += nfev
             t, x, v = float(te), float(ye[0]), float(ye[1])
             if name == "end":
@@ -192,8 +198,8 @@ def _after_rest(p, out, mode, t, x, t_end):
 
 
 def stroboscopic(scene, x0: float, v0: float, periods: int = 1, method: str = "DOP853",
-                 rtol: float = 1e-10) -> BaselineRun:
+                 rtol: float = 1e-10, flight=None) -> BaselineRun:
     """``Phi^periods(x0, v0)`` by the baseline (one ``run`` to ``periods * T``)."""
     if periods < 1:
         raise ValueError(f"periods must be >= 1, got {periods}")
-    return run(scene, x0, v0, periods * 2 * math.pi / scene.float("omega"), method, rtol)
+    return run(scene, x0, v0, periods * 2 * math.pi / scene.float("omega"), method, rtol, flight=flight)

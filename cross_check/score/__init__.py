@@ -1,0 +1,40 @@
+"""Score any integrator against the golden data: the conformance suite for this system.
+
+THE ADAPTER PROTOCOL (the one place it is written down)
+-------------------------------------------------------
+An adapter is any object with
+
+* ``name: str`` -- how the scorecard calls it;
+* ``effects: set[str]`` -- the effects it models, a subset of ``reference.scene.EFFECTS``:
+  ``walls``, ``forcing``, ``friction``, ``restitution``, ``damping``, ``position_forcing``.
+  A scene that needs an effect the adapter does not declare is *skipped and listed*, never
+  scored as a failure;
+* ``step(params, x, v, periods) -> (x, v)`` -- required.  ``params`` is a dict of plain floats
+  ``F, f, omega, l, r, restitution, damping`` and ``wavenumber`` (a float, or ``None`` without
+  position forcing); the system is ``x'' + f sgn(x') + c x' = F cos(k x) cos(omega t)`` on
+  ``l <= x <= r`` with ``v -> -e v`` at the walls, in Filippov's sense (stick while the force
+  is within the friction).  ``x, v`` are float64 arrays of starts at ``t = 0``; the result is
+  ``Phi^periods`` at ``t = periods T``, ``T = 2 pi / omega``, two float64 arrays of the same shape;
+* ``jacobian(params, x, v) -> J`` -- optional: ``Phi'`` as an array ``(n, 2, 2)``;
+* ``events(params, x, v) -> list`` -- optional: per start, the events of ``[0, T]`` as tuples
+  ``(kind, t, x, v_after, v_before)`` with ``kind`` in ``impact, turn, stick, slip, contact,
+  release, chatter`` (``cross_check.agreement.compare``'s kinds; the scorer brings both logs
+  to ``compare.canonical`` form before comparing).
+
+Plain floats and numpy arrays only: wrapping an engine takes a few lines (``adapters`` holds
+``fast``, ``reference``, scipy's ``solve_ivp`` and heyoka.py as examples).  An exception or a
+non-finite result on a start is a *failure* of that start, recorded, not a crash.
+
+* ``card``     -- ``score(adapter, scenes=..., periods=(1, 10))`` -> ``Scorecard`` (markdown, JSON),
+  and the CLI ``python -m cross_check score MODULE:NAME [--scenes ...] [--out DIR]``;
+* ``golden``   -- the golden cases as plain objects (``GoldenCase``), with their kind;
+* ``adapters`` -- the shipped adapters;
+* ``plugin``   -- the pytest plugin (entry point ``pytest11``): a ``golden_case`` fixture, one
+  test per golden case.
+
+May import ``cross_check.golden``, ``scenes``, ``agreement``, ``tolerances``, ``reference`` and
+``fast``; the report imports it, nothing else does.
+"""
+from cross_check.score.card import Scorecard, load_adapter, main, score
+
+__all__ = ["Scorecard", "load_adapter", "main", "score"]

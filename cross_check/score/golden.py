@@ -1,0 +1,105 @@
+"""The golden cases as plain objects for scoring: a start, its exact answer, its kind.
+
+Each case of the shipped golden data (``cross_check.golden``) gives one ``GoldenCase`` for the
+input a float64 integrator sees: the ``float64`` rounding of a decimal hard case, or the state
+itself when it is a float64 number.  Its ``kind`` says which regime the case tests:
+
+* the scene's effect when the scene switches on one beyond walls, forcing and friction
+  (``restitution``, ``damping``, ``position forcing``);
+* else the hard case it was built as (``grazing``, ``crossing pair``, ``root at t = kT``,
+  ``turning point at a wall``, ``stick-slip boundary``, ``sticking``, ``chatter``);
+* else, for a sample state, by its exact itinerary: ``chatter`` if it chatters, ``sticking`` if it
+  sticks or rests on a wall, ``impact`` if it hits a wall, ``smooth flight`` otherwise.
+
+``band`` marks a start whose exact itinerary changes under a ``compare_band_ulps`` move: the
+physics is ill-posed there in float64, and the scorecard lists it apart.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mpmath
+
+from cross_check import golden, scenes
+
+#: the kinds in the scorecard's order
+KINDS = ("smooth flight", "impact", "grazing", "crossing pair", "root at t = kT", "turning point at a wall",
+         "stick-slip boundary", "sticking", "chatter", "restitution", "damping", "position forcing")
+_BUILT = {"grazing": "grazing", "crossing_pair": "crossing pair", "impact_at_T": "root at t = kT",
+          "turn_at_wall": "turning point at a wall", "stick_slip_boundary": "stick-slip boundary",
+          "sticking": "sticking", "at_rest": "sticking", "stopping": "sticking", "chatter": "chatter"}
+_EFFECT_KIND = (("position_forcing", "position forcing"), ("damping", "damping"), ("restitution", "restitution"))
+
+
+@dataclass(frozen=True)
+class GoldenCase:
+    """One start and its exact answer (40 digits, strings kept for exact comparison)."""
+
+    scene: str
+    name: str
+    kind: str
+    params: dict
+    effects: frozenset
+    x: float
+    v: float
+    phi: tuple            # (x, v) strings, 40 significant digits
+    jacobian: tuple | None
+    events: tuple         # canonical (kind, t, x, v after, v before), strings
+    band: bool
+
+    @property
+    def id(self) -> str:
+        return f"{self.scene}/{self.name}"
+
+    def phi_mpf(self):
+        with mpmath.workdps(50):
+            return mpmath.mpf(self.phi[0]), mpmath.mpf(self.phi[1])
+
+    def ulp_floor(self) -> float | None:
+        """The one-ulp floor of ``Phi`` at this start, relative to ``max(1, |Phi|)``: how far the
+        exact map moves when ``x`` or ``v`` moves by one ulp (``|J| ulp``); ``None`` where the
+        Jacobian is undefined (grazing)."""
+        if self.jacobian is None:
+            return None
+        J = [[float(a) for a in row] for row in self.jacobian]
+        ux, uv = math.ulp(self.x) or 5e-324, math.ulp(self.v) or 5e-324
+        px, pv = (float(a) for a in self.phi)
+        fx = (abs(J[0][0]) * ux + abs(J[0][1]) * uv) / max(1.0, abs(px))
+        fv = (abs(J[1][0]) * ux + abs(J[1][1]) * uv) / max(1.0, abs(pv))
+        return max(fx, fv, 2.0 ** -53)
+
+
+def _kind(case: dict, effects, events) -> str:
+    for effect, kind in _EFFECT_KIND:
+        if effect in effects:
+            return kind
+    if case["name"] in _BUILT:
+        return _BUILT[case["name"]]
+    kinds = {e[0] for e in events}
+    if "chatter" in kinds:
+        return "chatter"
+    if kinds & {"stick", "slip", "contact", "release"}:
+        return "sticking"
+    return "impact" if "impact" in kinds else "smooth flight"
+
+
+def scene_cases(name: str) -> list[GoldenCase]:
+    """The golden cases of one scene, for the float64 input of each."""
+    data = golden.load(name)
+    effects = frozenset(data["scene"]["effects"])
+    params = scenes.scene(name).floats()
+    out = []
+    for c in data["cases"]:
+        inp = c["inputs"].get("float64", c["inputs"]["exact"])
+        events = tuple(tuple(e) for e in inp["events"])
+        jac = tuple(tuple(r) for r in inp["jacobian"]) if inp["jacobian"] is not None else None
+        out.append(GoldenCase(name, c["name"], _kind(c, effects, events), dict(params), effects,
+                              float(inp["x"]), float(inp["v"]), tuple(inp["phi"]), jac, events,
+                              bool(inp.get("band", False))))
+    return out
+
+
+def all_cases(names=None) -> list[GoldenCase]:
+    """Every golden case of the scenes ``names`` (default: all scenes with golden data)."""
+    return [c for name in (names or scenes.SCENES) for c in scene_cases(name)]
