@@ -3,7 +3,9 @@
 For each horizon (1 and 10 periods) and each state of the work-precision scenes: the error of
 ``Phi^n`` against the reference at ``TRUTH_DPS`` digits (``compare.map_error``) and the time per
 trajectory-period (best of 2), for the reference at dps 16 ... 100, ``fast`` (on a batch of
-~4096 copies, time divided), and scipy's RK45/DOP853 at rtol 1e-3 ... 1e-12.  Beside them the
+~4096 copies, time divided), scipy's RK45/DOP853 at rtol 1e-3 ... 1e-12 and heyoka.py's Taylor
+integrator at tol 1e-9 ... 1e-15 when it is installed, all through the scoring protocol
+(``cross_check.score.adapters``).  Beside them the
 one-ulp floor (the spread of the exact map under one-ulp moves of the start) and the rounding
 floor, and fast's error in units of both (``compare.map_floors``).
 """
@@ -17,6 +19,7 @@ import numpy as np
 from cross_check import scenes
 from cross_check.agreement import baseline, compare
 from cross_check.report.sections import REF_DPS, TRUTH_DPS
+from cross_check.score import adapters
 from cross_check.tolerances import tol
 
 
@@ -31,16 +34,27 @@ def _timed(fn, *args, repeat: int = 2, **kw):
     return out, best
 
 
-def _scipy_points(pts, sc, X, V, truths, periods, rtols):
-    for method in baseline.METHODS:
-        for rtol in rtols:
-            for X0, V0, tr in zip(X, V, truths):
-                key = f"{method} rtol {rtol:.0e}"
-                try:
-                    b, sec = _timed(baseline.stroboscopic, sc, X0, V0, periods, method, rtol)
-                    pts.setdefault(key, []).append((compare.map_error((b.x, b.v), tr), sec / periods))
-                except RuntimeError:
-                    pts.setdefault(key, []).append((1.0, math.nan))
+def peers(rtols) -> list:
+    """The peers of the work-precision diagram, as scoring-protocol adapters (``cross_check.score``):
+    solve_ivp RK45/DOP853 at each ``rtol``, and heyoka.py at 1e-9, 1e-12, 1e-15 when installed."""
+    out = [adapters.BaselineAdapter(f"{m} rtol {r:.0e}", m, r) for m in baseline.METHODS for r in rtols]
+    try:
+        out += [adapters.BaselineAdapter(f"heyoka tol {t:.0e}", flight=adapters.HeyokaFlight(t))
+                for t in (1e-9, 1e-12, 1e-15)]
+    except ImportError:
+        pass            # heyoka is optional: the report says so
+    return out
+
+
+def _peer_points(pts, sc, X, V, truths, periods, rtols):
+    params = sc.floats()
+    for peer in peers(rtols):
+        for X0, V0, tr in zip(X, V, truths):
+            try:
+                (bx, bv), sec = _timed(peer.step, params, np.array([X0]), np.array([V0]), periods)
+                pts.setdefault(peer.name, []).append((compare.map_error((bx[0], bv[0]), tr), sec / periods))
+            except RuntimeError:
+                pts.setdefault(peer.name, []).append((1.0, math.nan))
 
 
 def _scene_points(name, plan, periods, pts, floors, ratios):
@@ -66,7 +80,7 @@ def _scene_points(name, plan, periods, pts, floors, ratios):
         pts.setdefault("fast", []).append((err, sec / (reps * len(X) * periods)))
         ratios["ulp"].append(err / floors["ulp"][start + i])
         ratios["rounding"].append(err / floors["rounding"][start + i])
-    _scipy_points(pts, sc, X, V, truths, periods, plan.wp_rtols)
+    _peer_points(pts, sc, X, V, truths, periods, plan.wp_rtols)
 
 
 def work_precision(plan, progress) -> dict:

@@ -13,6 +13,7 @@ import numpy as np
 from cross_check import scenes
 from cross_check.agreement import baseline, compare
 from cross_check.agreement.compare import Summary
+from cross_check.score import adapters
 from cross_check.tolerances import tol
 
 REF_DPS = 50
@@ -76,7 +77,7 @@ def agreement_table(results: dict) -> list[str]:
 # --- 2. hard cases --------------------------------------------------------------------
 def _scipy_on(sc, x, v, ref_kinds, r_phi):
     try:
-        b = baseline.stroboscopic(sc, x, v, 1, "DOP853", 1e-10)
+        b = baseline.stroboscopic(sc, x, v, 1, "DOP853", 1e-10)    # one run gives both map and events
         same = "yes" if tuple(e.kind for e in compare.canonical(b.events, sc)) == ref_kinds else "**no**"
         return same, min(compare.digits(b.x, r_phi[0]), compare.digits(b.v, r_phi[1]))
     except RuntimeError as exc:
@@ -124,22 +125,26 @@ def hard_table(rows) -> list[str]:
 def itinerary_misses(names, n_sample: int, progress=None) -> dict:
     """One-period itineraries of solve_ivp against the reference (dps 50), canonical form.
 
-    For RK45 and DOP853 at rtol 1e-6 and 1e-10, on the sample states and the float64
-    roundings of the hard cases of the scenes ``names``: ``{(method, rtol): [(where,
-    reference kinds, baseline kinds or None if it raised)]}``.
+    For RK45 and DOP853 at rtol 1e-6 and 1e-10 (scoring-protocol adapters,
+    ``cross_check.score.adapters``), on the sample states and the float64 roundings of the hard
+    cases of the scenes ``names``: ``{(method, rtol): [(where, reference kinds, baseline kinds or
+    None if it raised)]}``.
     """
     runs = {(m, r): [] for m in baseline.METHODS for r in (1e-6, 1e-10)}
+    peers = {key: adapters.BaselineAdapter(f"{key[0]} rtol {key[1]:.0e}", *key) for key in runs}
     for name in names:
         sc = scenes.scene(name)
+        params = sc.floats()
         for c in scenes.sample_states(name, n_sample) + [h.rounded() for h in scenes.hard_states(name)]:
             ref = [e.kind for e in compare.canonical(compare.ref_events(sc, c, None, 50), sc)]
-            for method, rtol in runs:
+            x, v = (np.array([a]) for a in c.float())
+            for key, peer in peers.items():
                 try:
                     got = [e.kind for e in compare.canonical(
-                        baseline.stroboscopic(sc, *c.float(), 1, method, rtol).events, sc)]
+                        [compare.Event(*e) for e in peer.events(params, x, v)[0]], sc)]
                 except RuntimeError:
                     got = None
-                runs[(method, rtol)].append((f"{name}/{c.name}", ref, got))
+                runs[key].append((f"{name}/{c.name}", ref, got))
         if progress:
             progress(f"scipy itineraries: {name}")
     return runs
