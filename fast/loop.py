@@ -33,7 +33,7 @@ from .jit import data_pointer, kernel
 from .output import store
 from .params import params  # noqa: F401  (the engine's params, fast.batch's contract)
 from .precise import at_end, at_event
-from .roots import plan
+from .roots import CRAWL_ROUNDS, plan, plan_crawl
 
 EPS = 2.0 ** -52
 MAX_SEGMENT_ROUNDS = 1000
@@ -129,7 +129,10 @@ def run_state(P, x, v, t_end, t_end_lo, jac, max_events, st, ev):
         end_lo = t_end_lo if st[q.TT] == t_end else 0.0
         h = ((st[q.TT] - st[q.T0]) - st[q.T0LO]) + end_lo
         dx, vv, cs, sn = evaluate(P, h, st[q.V0], st[q.S], st[q.SN0], st[q.CS0])
-        code, est = plan(P, st, dx, vv, cs, sn, t_end, tol)
+        if st[q.NIT] <= CRAWL_ROUNDS:
+            code, est = plan(P, st, dx, vv, cs, sn, t_end, tol)
+        else:
+            code, est = plan_crawl(P, st, dx, vv, cs, sn, t_end, tol)
         if code == q.ATWALL:
             _finish_flight(P, st, t_end, t_end_lo, jac)
         t, tl = dd.two_sum(st[q.TT], est)

@@ -43,6 +43,30 @@ from .jit import kernel
 
 EPS = 2.0 ** -52
 TINY = 1e-300
+#: rounds of one segment after which ``plan`` widens its certified steps by ``_crawl``
+CRAWL_ROUNDS = 64
+
+
+@kernel
+def _crawl(res, g, g1, g2, M3, H_cap):
+    """``res`` of ``analyze`` with its root-free step widened by the cubic minorant
+    ``g + g1 h + g2 h^2/2 - M3 h^3/6`` (``g > 0``, the third derivative bounded by ``M3``): each
+    of ``min(g1, 0) h``, ``min(g2, 0) h^2/2`` and ``M3 h^3/6`` stays below ``g/3`` under the step,
+    so the minorant stays positive.  Where ``g``, ``g'`` and ``g''`` are all near zero together --
+    a slip toward a wall a hair away, ``|A| = f`` at its start -- the quadratic certificate's
+    steps shrink with ``g`` and the search crawls (the threshold pairs of issue 18 found it: over
+    1e5 rounds at a distance of 1e-19); this step is ``(2 g/M3)^(1/3)`` there.  ``plan`` asks
+    for it only once a segment has taken ``CRAWL_ROUNDS`` rounds (``plan_crawl``, chosen by
+    ``fast.loop``): the usual path, ``plan``, is compiled without it and never pays."""
+    safe, est, acc, back = res
+    if acc or not g > 0.0:
+        return res
+    h = ((g + g) / M3) ** (1.0 / 3.0) if M3 > 0.0 else math.inf
+    if g1 < 0.0:
+        h = min(h, g / (3.0 * -g1))
+    if g2 < 0.0:
+        h = min(h, math.sqrt((g + g) / (3.0 * -g2)))
+    return max(safe, min(0.999 * h, H_cap)), est, acc, back
 
 
 @kernel(inline=True)
@@ -148,6 +172,18 @@ def bounds(P, av0):
 
 @kernel
 def plan(P, st, dx, v, cs, sn, t_end, tol):
+    """``_plan`` on the usual path (no ``_crawl``)."""
+    return _plan(P, st, dx, v, cs, sn, t_end, tol, False)
+
+
+@kernel
+def plan_crawl(P, st, dx, v, cs, sn, t_end, tol):
+    """``_plan`` for a segment past ``CRAWL_ROUNDS`` rounds: certified steps widened by ``_crawl``."""
+    return _plan(P, st, dx, v, cs, sn, t_end, tol, True)
+
+
+@kernel(inline=True)
+def _plan(P, st, dx, v, cs, sn, t_end, tol, crawl):
     """Certify the trial point ``st[TT]``, detect an accepted event, choose the next trial.
 
     A function whose certified end lies beyond the trial (``TT < C_i``) has no root up to
@@ -184,15 +220,19 @@ def plan(P, st, dx, v, cs, sn, t_end, tol):
         if do1:
             g1 = st[q.D0] - s * dx
             n1 = min((8 * EPS) * (st[q.D0] + av0 * h + (0.5 * M1) * (h * h)), P[p.NOISE1])
-            r1 = _outcome(b, g1 > 0.0, analyze(g1, -s * v, -a, -a3, M1, M1_3, t_end - b, tol,
-                                               n1, d_acc, False, spec), st[q.C1])
+            res1 = analyze(g1, -s * v, -a, -a3, M1, M1_3, t_end - b, tol, n1, d_acc, False, spec)
+            if crawl:
+                res1 = _crawl(res1, g1, -s * v, -a, M1_3, t_end - b)
+            r1 = _outcome(b, g1 > 0.0, res1, st[q.C1])
         if do2:
             g2 = s * v
             n2 = min((8 * EPS) * (av0 + M1 * h), P[p.NOISE2])
             fresh = g2 <= 0.0 and b == st[q.T0] and st[q.V0] == 0.0 and st[q.V0LO] == 0.0
             d2 = max(a, 0.0) if fresh else a
-            r2 = _outcome(b, g2 > 0.0 or fresh, analyze(g2, d2, a3, a4, M2, M2_3, t_end - b,
-                                                        tol, n2, d_acc, fresh, spec), st[q.C2])
+            res2 = analyze(g2, d2, a3, a4, M2, M2_3, t_end - b, tol, n2, d_acc, fresh, spec)
+            if crawl:
+                res2 = _crawl(res2, g2, d2, a3, M2_3, t_end - b)
+            r2 = _outcome(b, g2 > 0.0 or fresh, res2, st[q.C2])
             if fresh and not r2[0] > b and b < t_end:    # it cannot leave rest in float64
                 r2 = (b, True, b, True, b, True)
         # an accepted root beyond the other function's old certified end: analyse that

@@ -59,6 +59,8 @@ _EPS = 2.0 ** -52
 MAX_FLOAT_STEPS = 400
 #: Bound on safe steps per flight (a near-tangency costs ~log of the miss distance).
 MAX_STEPS = 20000
+#: Steps of one search after which the cubic step (``_crawl_step``) joins the quadratic one.
+CRAWL_STEPS = 64
 
 
 class WallHit:
@@ -97,6 +99,10 @@ class WallHit:
     def bound(self, flight, ta, tb):
         return flight.bound_x2(ta, tb)
 
+    def bound3(self, flight, ta, tb):
+        """A bound of the third derivative, |a'| (``_crawl_step``)."""
+        return flight.bound_v2(ta, tb)
+
     def noise(self, flight):
         return flight.noise_x, flight.noise_v
 
@@ -128,6 +134,10 @@ class VelocityZero:
 
     def bound(self, flight, ta, tb):
         return flight.bound_v2(ta, tb)
+
+    def bound3(self, flight, ta, tb):
+        """A bound of the third derivative, |a''| (``_crawl_step``)."""
+        return flight.bound_a2(ta, tb)
 
     def noise(self, flight):
         return flight.noise_v, flight.noise_a
@@ -189,6 +199,22 @@ def _safe_step_mp(g, dg, M):
     return 2 * g / (root - dg) * shrink
 
 
+def _crawl_step(g, dg, d2g, M3):
+    """A root-free step from the cubic minorant ``g + g' h + g'' h^2/2 - M3 h^3/6`` (``g > 0``,
+    ``M3`` a bound of the third derivative): each of ``min(g', 0) h``, ``min(g'', 0) h^2/2`` and
+    ``M3 h^3/6`` stays below ``g/3`` under the step, so the minorant stays positive.  Where ``g``,
+    ``g'`` and ``g''`` are all near zero together (a slip toward a wall a hair away, ``|A| = f``
+    at its start: the threshold pairs of issue 18) the quadratic step shrinks with ``g`` and the
+    search crawls (20000 steps did not reach a wall 1e-19 away); this step is
+    ``(2 g/M3)^(1/3)`` there.  Used after ``CRAWL_STEPS`` steps of one search."""
+    h = mpmath.cbrt(2 * g / M3) if M3 > 0 else mpmath.inf
+    if dg < 0:
+        h = min(h, g / (-3 * dg))
+    if d2g < 0:
+        h = min(h, mpmath.sqrt(2 * g / (-3 * d2g)))
+    return h * mpmath.mpf("0.999")
+
+
 class _Tracked:
     """Per-function state of one search: which quantity is watched (g itself, or s a)."""
 
@@ -246,6 +272,9 @@ def find_next_event(flight, functions, t_end):
             tb = t + window
             M = flight.bound_a2(t, tb) if item.rest else item.fn.bound(flight, t, tb)
             h_item = safe_step(g, dg, M)
+            if step > CRAWL_STEPS and not item.rest and g > 0:
+                d2g = item.fn.second(a, flight.jerk(t, x, v, a))
+                h_item = max(h_item, _crawl_step(g, dg, d2g, item.fn.bound3(flight, t, tb)))
             if h_item < h:
                 h, nearest = h_item, item
         if remaining <= 0:
