@@ -37,6 +37,13 @@ _NAMES = ("F F_LO FF FF_LO W W_LO L R T T_LO E DAMP DAMP_LO PD PD_LO QD QD_LO C 
  ALPHA, SA, SA_LO, B1, B1_LO, B2, B2_LO, FW, FW_LO, FW2, FW2_LO, M1, M1_3, M2, M2_3, NOISE1,
  NOISE2, D_ACC, FRICTION, CHATTER, XSCALE, IW, IW_LO, ID, ID_LO, ID2, ID2_LO) = range(len(_NAMES))
 SIZE = len(_NAMES)
+#: ``F`` above ``f`` by less than this, relative (about 4 ulp), counts as ``F = f``: the force
+#: then exceeds the friction for windows of ``2 acos(f/F)/w < 2 sqrt(2^-49)/w ~ 6e-8/w`` only,
+#: which move the state by under ``(F - f) (6e-8/w)^2 ~ 1e-30 F/w^2`` -- below the float64
+#: resolution of any state relative to ``max(1, |.|)`` -- while float64 cannot order the window's
+#: ends (the threshold pairs of issue 18 found the search crawling there: F = f (1 + 2e-16))
+STICK_EDGE = mpmath.mpf(2) ** -50
+
 #: 2 pi as a double-double (mpmath at 40 digits)
 TWO_PI_HI, TWO_PI_LO = 6.283185307179586, 2.4492935982947064e-16
 
@@ -64,6 +71,8 @@ def params(scene: Scene) -> np.ndarray:
         if cd > 0:
             exact.update({ID: 1 / cd, ID2: 1 / cd ** 2})
         ratio = fm / Fm if Fm > 0 else None
+        if ratio is not None and 1 - ratio < STICK_EDGE:
+            ratio = max(ratio, mpmath.mpf(1))   # slides too short for float64: sticks for good
         if ratio is not None and ratio < 1:
             alpha = mpmath.acos(ratio)
             exact.update({C: ratio, SA: mpmath.sin(alpha), B1: mpmath.pi - alpha,
