@@ -70,6 +70,17 @@ class GoldenCase:
         return max(fx, fv, 2.0 ** -53)
 
 
+    def map_error(self, x, v) -> tuple[float, float]:
+        """``(error, allowed factor)``: the larger relative error of ``(x, v)`` against the golden
+        ``Phi`` (relative to ``max(1, |Phi|)``), and the one-ulp floor times 4 (a start a
+        float64 integrator sees only to one ulp cannot be asked for better; 0 where undefined)."""
+        from cross_check.agreement import compare
+
+        gx, gv = self.phi_mpf()
+        err = max(10.0 ** -compare.digits(float(x), gx), 10.0 ** -compare.digits(float(v), gv))
+        return err, 4 * (self.ulp_floor() or 0.0)
+
+
 def _kind(case: dict, effects, events) -> str:
     for effect, kind in _EFFECT_KIND:
         if effect in effects:

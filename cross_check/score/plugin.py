@@ -29,20 +29,16 @@ class _Checked:
 
     def assert_close(self, x, v, tolerance: str = "golden_case_float64"):
         """``(x, v)`` within the named tolerance of the golden ``Phi`` (module docstring)."""
-        from cross_check.agreement import compare
         from cross_check.tolerances import tol
 
         if self.case.band:
             pytest.skip(f"{self.case.id}: in the near-grazing band (itinerary not fixed by a float64 start)")
         t = tol(tolerance)
-        floor = self.case.ulp_floor() or 0.0
-        gx, gv = self.case.phi_mpf()
-        for name, got, want in (("x", x, gx), ("v", v, gv)):
-            err = 10.0 ** -compare.digits(float(got), want)
-            assert err <= max(t.rtol, 4 * floor), (
-                f"{self.case.id} [{self.case.kind}]: Phi {name} = {float(got)!r}, golden {str(want)[:22]}: "
-                f"relative error {err:.2e} > {tolerance} {t.rtol:g} (one-ulp floor {floor:.1e})")
-
+        err, floor = self.case.map_error(x, v)
+        assert err <= max(t.rtol, floor), (
+            f"{self.case.id} [{self.case.kind}]: Phi = ({float(x)!r}, {float(v)!r}), golden "
+            f"({self.case.phi[0][:20]}, {self.case.phi[1][:20]}): relative error {err:.2e} > "
+            f"{tolerance} {t.rtol:g} (4 x one-ulp floor {floor:.1e})")
 
 def pytest_addoption(parser):
     group = parser.getgroup("vibro-impact golden data")
