@@ -6,7 +6,8 @@ Commands (each has its own ``--help``):
 * ``golden``  -- write the golden data from the reference, ``cross_check.golden``;
 * ``claims``  -- check the paper's claims, ``cross_check.paper.claims``;
 * ``figures`` -- redraw the paper's figures, ``cross_check.paper.figures``;
-* ``score``   -- score an integrator against the golden data, ``cross_check.score``.
+* ``score``   -- score an integrator against the golden data, ``cross_check.score``;
+* ``sensitivity`` -- the suite's checks on a catalogue of faulty integrators, ``cross_check.sensitivity``.
 
 Bad arguments give one line on stderr and exit status 2 (argparse's convention).
 """
@@ -21,6 +22,7 @@ COMMANDS = {
     "claims": ("cross_check.paper.claims", "check the paper's claims one by one"),
     "figures": ("cross_check.paper.figures", "redraw the paper's figures as PNG"),
     "score": ("cross_check.score", "score any integrator (MODULE:NAME) against the golden data"),
+    "sensitivity": ("cross_check.sensitivity", "which check catches which fault: a catalogue of faulty integrators"),
 }
 
 USAGE = "usage: python -m cross_check {" + ",".join(COMMANDS) + "} [options]"

@@ -378,3 +378,20 @@ TOLERANCES.update({
             "of the test; 2 digits of slack cover the conditioning of the tiny-gap scene "
             "(~1e3 impacts a period, each located to working precision)"),
 })
+
+# --- the sensitivity checks (cross_check/sensitivity/, issue 18) ---------------------------
+TOLERANCES.update({
+    "sensitivity_event_time": Tol(
+        rtol=1e-11, atol=0.0,
+        why="issue 18: the times of the canonical events of a golden case outside the band, in "
+            "units of T: fast locates each event to a few ulp of t and carries the state in "
+            "double-double (<= 1e-14 T), a chatter accumulation to fast_chatter_time = 1e-12 T; "
+            "1e-11 T leaves a decade over the worst of them, far below what a wrong event (a "
+            "chatter cut short: >= 1e-6 T) moves"),
+    "sensitivity_jacobian": Tol(
+        rtol=1e-8, atol=0.0,
+        why="issue 18: Phi' against the golden 40-digit Jacobian, relative to max(1, |J|), "
+            "outside the band and away from grazing: a product of Table 1 matrices whose "
+            "entries carry float64 event times (1/v- amplifies them by <= ~1e3 on these cases; "
+            "measured worst 4e-11); a wrong factor changes J by O(1)"),
+})

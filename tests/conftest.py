@@ -23,3 +23,29 @@ settings.register_profile(
     suppress_health_check=[HealthCheck.too_slow],
 )
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+
+# --- order: the fastest, most fault-sensitive checks first ---------------------------------
+#: modules run first, in this order, and marked ``sensitive`` (``python -m pytest -m sensitive``
+#: runs only them): the golden data, the threshold pairs, the fault catalogue, the precision on
+#: short flights, the scorecard, the constructed events -- the checks that caught every fault
+#: injected so far (``python -m cross_check sensitivity``), in seconds
+SENSITIVE = ("test_golden.py", "test_thresholds.py", "test_sensitivity.py", "test_short_flights.py",
+             "test_score.py", "test_constructed_events.py")
+#: modules run last: the claims and figures (the slowest), then the CLI end to end
+LAST = ("test_claims.py", "test_figures.py", "test_cli.py")
+
+
+def pytest_collection_modifyitems(config, items):
+    import pytest
+
+    def rank(item):
+        name = item.path.name
+        if name in SENSITIVE:
+            return SENSITIVE.index(name)
+        return len(SENSITIVE) + 1 + (LAST.index(name) if name in LAST else -1)
+
+    for item in items:
+        if item.path.name in SENSITIVE:
+            item.add_marker(pytest.mark.sensitive)
+    items.sort(key=rank)          # stable: the order inside a module is kept
