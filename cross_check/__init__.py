@@ -6,6 +6,7 @@ Rooms, each importing only those below it (the import contracts in ``pyproject.t
 * ``__main__``    -- the CLI, one line per command;
 * ``report/``     -- the markdown V&V report and its plots;
 * ``sensitivity/``-- the suite's checks on a catalogue of faulty integrators;
+* ``atlas/``      -- where each claim holds: the claims over parameter space, on Dask;
 * ``score/``      -- score any integrator against the golden data (adapter protocol, scorecard,
   pytest plugin);
 * ``paper/``      -- the paper's claims and figures, each a registry;

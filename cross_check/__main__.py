@@ -7,7 +7,8 @@ Commands (each has its own ``--help``):
 * ``claims``  -- check the paper's claims, ``cross_check.paper.claims``;
 * ``figures`` -- redraw the paper's figures, ``cross_check.paper.figures``;
 * ``score``   -- score an integrator against the golden data, ``cross_check.score``;
-* ``sensitivity`` -- the suite's checks on a catalogue of faulty integrators, ``cross_check.sensitivity``.
+* ``sensitivity`` -- the suite's checks on a catalogue of faulty integrators, ``cross_check.sensitivity``;
+* ``atlas``   -- the claims over parameter space on Dask, ``cross_check.atlas``.
 
 Bad arguments give one line on stderr and exit status 2 (argparse's convention).
 """
@@ -22,6 +23,7 @@ COMMANDS = {
     "claims": ("cross_check.paper.claims", "check the paper's claims one by one"),
     "figures": ("cross_check.paper.figures", "redraw the paper's figures as PNG"),
     "score": ("cross_check.score", "score any integrator (MODULE:NAME) against the golden data"),
+    "atlas": ("cross_check.atlas", "where each claim holds: the claims over (f/F, w^2 R/F), on Dask"),
     "sensitivity": ("cross_check.sensitivity", "which check catches which fault: a catalogue of faulty integrators"),
 }
 

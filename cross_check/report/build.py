@@ -10,7 +10,8 @@ section (``sections``, ``precision``, ``plots``):
    one-ulp floor;
 4. where solve_ivp misses events;
 5. the paper's claims, one registered claim at a time (``cross_check.paper.claims.CLAIMS``);
-6. machine, versions, seeds, timings.
+6. where the claims hold: the atlas's maps (``python -m cross_check atlas``) when one exists;
+7. machine, versions, seeds, timings.
 
 One failing part does not take the report down: it is listed under "Failures" at the top and
 the exit status is 1.  Progress goes to stderr, one line per step.  The full report takes under
@@ -84,7 +85,8 @@ def _guarded(progress, errors: list, what: str, fn, *args):
         return None
 
 
-def _measure(plan: Plan, out: pathlib.Path, claims: bool, quick: bool, progress) -> tuple[dict, dict, list]:
+def _measure(plan: Plan, out: pathlib.Path, claims: bool, quick: bool, progress,
+             atlas_dir="atlas") -> tuple[dict, dict, list]:
     """Run every section; return ``(markdown pieces, timings, errors)``."""
     timings, errors, parts = {}, [], {}
     agreement = {}
@@ -110,6 +112,7 @@ def _measure(plan: Plan, out: pathlib.Path, claims: bool, quick: bool, progress)
     parts["claims"] = sections.claims_section(quick, progress) if claims else ["(skipped: `--skip-claims`)"]
     errors += [f"claim {line.split('|')[1].strip()}: FAILED" for line in parts["claims"] if "| FAILED |" in line]
     timings["claims"] = progress.lap()
+    parts["atlas"] = sections.atlas_section(atlas_dir, out)
     return parts, timings, errors
 
 
@@ -145,10 +148,11 @@ def _markdown(parts: dict, errors: list, plan: Plan, quick: bool) -> list[str]:
               "event handling (`cross_check/agreement/baseline.py`): restart at each event, stick and wall "
               "contact by threshold events, chatter cut-off below 100 atol.", ""] + parts["scipy"] + [""]
     lines += ["## The paper's claims", ""] + parts["claims"]
+    lines += ["", "## Where the claims hold: the atlas", ""] + parts["atlas"]
     return lines + ["", "## Machine, versions, seeds", ""] + sections.machine_section(plan.n_sample, quick)
 
 
-def build(out_dir, quick: bool = False, claims: bool = True) -> tuple[pathlib.Path, list]:
+def build(out_dir, quick: bool = False, claims: bool = True, atlas_dir="atlas") -> tuple[pathlib.Path, list]:
     """Compute everything and write ``report.md`` + PNGs into ``out_dir``; return the path
     and the list of parts that failed (they are listed in the report too).
 
@@ -160,7 +164,7 @@ def build(out_dir, quick: bool = False, claims: bool = True) -> tuple[pathlib.Pa
     for pkg in ("reference", "fast"):
         if not compare.available(pkg):
             raise RuntimeError(f"the {pkg} integrator is not available ({pkg}.stroboscopic_map)")
-    parts, timings, errors = _measure(plan, out, claims, quick, progress)
+    parts, timings, errors = _measure(plan, out, claims, quick, progress, atlas_dir)
     lines = _markdown(parts, errors, plan, quick)
     lines += ["- timings: " + ", ".join(f"{k} {v:.0f}s" for k, v in timings.items())
               + f", total {progress.elapsed:.0f}s"]
@@ -181,11 +185,13 @@ def main(argv=None) -> int:
                     "paper's claims.  Writes report.md and work_precision.png.")
     parser.add_argument("--out", default="report", help="output directory (default: report/)")
     parser.add_argument("--quick", action="store_true", help="small run (3 scenes, fewer states), about 10 s")
+    parser.add_argument("--atlas", default="atlas", help="where an atlas was written (python -m cross_check "
+                        "atlas); its maps are shown when present (default: atlas/)")
     parser.add_argument("--skip-claims", action="store_true",
                         help="leave out the claims table (python -m cross_check claims runs it alone)")
     args = parser.parse_args(argv)
     try:
-        path, errors = build(args.out, args.quick, claims=not args.skip_claims)
+        path, errors = build(args.out, args.quick, claims=not args.skip_claims, atlas_dir=args.atlas)
     except RuntimeError as exc:
         print(f"report: {exc}", file=sys.stderr)
         return 1

@@ -202,3 +202,30 @@ def machine_section(n_sample: int, quick: bool) -> list[str]:
             f"{n_sample} sample states per scene, reference at dps {REF_DPS}, truth at dps {TRUTH_DPS}",
             f"- near-grazing band: itinerary change under {tol('compare_band_ulps').rtol:g} ulps "
             f"(`compare_band_ulps`)"]
+
+
+def atlas_section(atlas_dir, report_dir) -> list[str]:
+    """The atlas's maps and boundary table when ``atlas_dir/atlas.json`` exists, else how to make one."""
+    import json
+    import os
+    import pathlib
+
+    path = pathlib.Path(atlas_dir) / "atlas.json"
+    if not path.exists():
+        return [f"No atlas in `{atlas_dir}/` yet.  Make one (64 x 64, about 25 s on 2 workers): "
+                "`python -m pip install -e '.[atlas]' && python -m cross_check atlas`; the report then "
+                "shows its maps here."]
+    data = json.loads(path.read_text())
+    prov = data["provenance"]
+    lines = [f"{prov['grid']} x {prov['grid']} grid of (f/F, w^2 R/F), {prov['scene']}; claims: "
+             f"{', '.join(prov['claims'])}.  Computed switch against each closed form, in grid cells:", "",
+             "| closed-form boundary | worst distance (cells) | lines compared |", "|---|---|---|"]
+    for name, b in data["boundaries"].items():
+        worst = "-" if b["worst_cells"] is None else f"{b['worst_cells']:.2f}"
+        lines.append(f"| {name} | {worst} | {b['lines']} |")
+    lines.append("")
+    for claim in prov["claims"]:
+        png = pathlib.Path(atlas_dir) / f"atlas_{claim}.png"
+        if png.exists():
+            lines += [f"![atlas {claim}]({os.path.relpath(png, report_dir)})", ""]
+    return lines
