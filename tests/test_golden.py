@@ -199,3 +199,15 @@ def test_format_is_deterministic_and_compact():
     with mpmath.workdps(60):
         assert golden.fmt(mpmath.mpf(1) / 3) == "0." + "3" * 40
     assert math.isclose(float(golden.fmt(mpmath.mpf("2.5"), 5)), 2.5)
+
+
+def test_fast_event_times_match_golden_to_a_fixed_fraction_of_the_period():
+    """Every canonical event time of fast outside the band and away from grazing within
+    ``sensitivity_event_time`` (1e-11 T) of the golden one, whatever the map's conditioning: a
+    slip or release moved in time changes the state only at third order (the force equals the
+    friction there), so the map alone would not show it (a mutation run found one that way)."""
+    from cross_check.score.adapters import FAST
+    from cross_check.sensitivity.checks import golden_event_times
+
+    bad = golden_event_times(FAST)
+    assert not bad, bad[:10]
