@@ -78,11 +78,12 @@ def _periodic_centre(sc, fF, R, branch, m, want):
     kind, _ = periodic.classify(res.J)
     if str(kind[0]) not in want:
         return None
+    import fast
     x, v = float(res.x[0]), float(res.v[0])
     kinds = []
     for _ in range(m):
         kinds += _kinds(sc, x, v)
-        x, v = (float(a[0]) for a in __import__("fast").stroboscopic_map(sc, np.array([x]), np.array([v])))
+        x, v = (float(a[0]) for a in fast.stroboscopic_map(sc, np.array([x]), np.array([v])))
     if any(k in _ZERO_V for k in kinds) or kinds.count("impact") != 2:     # one round trip in m periods
         return None
     return float(np.trace(res.J[0]))
