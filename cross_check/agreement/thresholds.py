@@ -61,6 +61,17 @@ class Pair:
     t_end: object
     expect: tuple
 
+    def verdict(self, kinds=None, at_rest=None) -> tuple[bool, str]:
+        """Whether what an integrator did -- the event ``kinds`` it logged over the pair's window,
+        or whether its ``Phi`` is the start ``at_rest`` -- is the regime this side must take."""
+        if self.expect[0] == "rest":
+            return at_rest == self.expect[1], f"at rest: {at_rest}"
+        if self.expect[0] == "event":
+            _, i, kind = self.expect
+            return len(kinds) > i and kinds[i] == kind, f"events {kinds[:i + 3]}"
+        _, kind, present = self.expect
+        return (kind in kinds) == present, f"events {kinds}"
+
     @property
     def id(self) -> str:
         return f"{self.switch} [{self.variant}] delta={self.delta} {'+' if self.side > 0 else '-'}"
@@ -190,11 +201,5 @@ def observe(pair: Pair, engine: str, dps: int = 30) -> tuple[bool, str]:
     """Whether ``engine`` (``"fast"`` or ``"reference"`` at ``dps``) takes the expected regime,
     and what it did (the event kinds, or whether ``Phi`` is the start at rest)."""
     if pair.expect[0] == "rest":
-        rest = _at_rest(pair, engine, dps)
-        return rest == pair.expect[1], f"at rest: {rest}"
-    kinds = _log(pair, engine, dps)
-    if pair.expect[0] == "event":
-        _, i, kind = pair.expect
-        return len(kinds) > i and kinds[i] == kind, f"events {kinds[:i + 3]}"
-    _, kind, present = pair.expect
-    return (kind in kinds) == present, f"events {kinds}"
+        return pair.verdict(at_rest=_at_rest(pair, engine, dps))
+    return pair.verdict(kinds=_log(pair, engine, dps))

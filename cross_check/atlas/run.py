@@ -115,10 +115,6 @@ def compute(claims, n, *, scheduler=None, workers=2, chunk=CHUNK, progress=None,
     return grid, values, stats
 
 
-def progress_line(msg):
-    print(msg, file=sys.stderr, flush=True)
-
-
 def provenance(grid, claims, stats) -> dict:
     import platform
 

@@ -11,6 +11,7 @@ floor, and fast's error in units of both (``compare.map_floors``).
 """
 from __future__ import annotations
 
+import functools
 import math
 import time
 
@@ -34,9 +35,11 @@ def _timed(fn, *args, repeat: int = 2, **kw):
     return out, best
 
 
-def peers(rtols) -> list:
+@functools.lru_cache(maxsize=None)
+def peers(rtols: tuple) -> list:
     """The peers of the work-precision diagram, as scoring-protocol adapters (``cross_check.score``):
-    solve_ivp RK45/DOP853 at each ``rtol``, and heyoka.py at 1e-9, 1e-12, 1e-15 when installed."""
+    solve_ivp RK45/DOP853 at each ``rtol``, and heyoka.py at 1e-9, 1e-12, 1e-15 when installed (built
+    once per run: each heyoka integrator compiles its Taylor series)."""
     out = [adapters.BaselineAdapter(f"{m} rtol {r:.0e}", m, r) for m in baseline.METHODS for r in rtols]
     try:
         out += [adapters.BaselineAdapter(f"heyoka tol {t:.0e}", flight=adapters.HeyokaFlight(t))
@@ -48,7 +51,7 @@ def peers(rtols) -> list:
 
 def _peer_points(pts, sc, X, V, truths, periods, rtols):
     params = sc.floats()
-    for peer in peers(rtols):
+    for peer in peers(tuple(rtols)):
         for X0, V0, tr in zip(X, V, truths):
             try:
                 (bx, bv), sec = _timed(peer.step, params, np.array([X0]), np.array([V0]), periods)

@@ -140,8 +140,7 @@ def itinerary_misses(names, n_sample: int, progress=None) -> dict:
             x, v = (np.array([a]) for a in c.float())
             for key, peer in peers.items():
                 try:
-                    got = [e.kind for e in compare.canonical(
-                        [compare.Event(*e) for e in peer.events(params, x, v)[0]], sc)]
+                    got = [e.kind for e in adapters.canonical_log(peer.events(params, x, v)[0], sc)]
                 except RuntimeError:
                     got = None
                 runs[key].append((f"{name}/{c.name}", ref, got))

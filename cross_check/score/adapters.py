@@ -148,6 +148,13 @@ SCIPY = BaselineAdapter("scipy DOP853 rtol 1e-10")
 SHIPPED = {"fast": lambda: FAST, "reference": lambda: REFERENCE, "scipy": lambda: SCIPY, "heyoka": heyoka}
 
 
+def canonical_log(row, scene) -> list:
+    """An adapter's event tuples ``(kind, t, x, v after, v before)`` of one start as
+    ``compare.Event`` objects in ``compare.canonical`` form (what itineraries are compared in)."""
+    from cross_check.agreement import compare
+    return compare.canonical([compare.Event(str(e[0]), *(float(a) for a in e[1:5])) for e in row], scene)
+
+
 def finite_pair(out, n):
     """``(x, v)`` float64 arrays of length ``n`` from an adapter's ``step``, or ``TypeError``."""
     if not (isinstance(out, tuple) and len(out) == 2):
@@ -160,4 +167,4 @@ def finite_pair(out, n):
     return x.astype(float), v.astype(float)
 
 
-__all__ = ["FAST", "REFERENCE", "SCIPY", "SHIPPED", "heyoka", "scene_of", "finite_pair"]
+__all__ = ["FAST", "REFERENCE", "SCIPY", "SHIPPED", "canonical_log", "heyoka", "scene_of", "finite_pair"]

@@ -75,8 +75,7 @@ def _digits(pair, case) -> float:
 
 def _itinerary(case, got, scene):
     """``(missed, invented)`` kind counts of the adapter's log against the golden one (canonical)."""
-    evs = [compare.Event(str(e[0]), *(float(a) for a in e[1:5])) for e in got]
-    have = collections.Counter(e.kind for e in compare.canonical(evs, scene))
+    have = collections.Counter(e.kind for e in adapters.canonical_log(got, scene))
     want = collections.Counter(e[0] for e in case.events)
     return dict(want - have), dict(have - want)
 

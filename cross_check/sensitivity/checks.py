@@ -24,7 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from cross_check import scenes
-from cross_check.agreement import compare, construct, thresholds
+from cross_check.agreement import construct, thresholds
+from cross_check.score.adapters import canonical_log
 from cross_check.score.golden import all_cases
 from cross_check.tolerances import tol
 
@@ -68,8 +69,7 @@ def golden_map(adapter):
 def _logs(adapter, cs):
     rows = adapter.events(cs[0].params, np.array([c.x for c in cs]), np.array([c.v for c in cs]))
     sc = scenes.scene(cs[0].scene)
-    return [compare.canonical([compare.Event(str(e[0]), *(float(a) for a in e[1:5])) for e in row], sc)
-            for row in rows]
+    return [canonical_log(row, sc) for row in rows]
 
 
 def golden_itinerary(adapter):
@@ -143,11 +143,9 @@ def threshold_pairs(adapter):
         params, (x, v) = pair.scene.floats(), (np.array([float(pair.x)]), np.array([float(pair.v)]))
         if pair.expect[0] == "rest":
             X, V = adapter.step(params, x, v, 1)
-            ok = (float(X[0]) == float(x[0]) and float(V[0]) == 0.0) == pair.expect[1]
+            ok, _ = pair.verdict(at_rest=float(X[0]) == float(x[0]) and float(V[0]) == 0.0)
         else:
-            kinds = [e[0] for e in adapter.events(params, x, v)[0]]
-            ok = (len(kinds) > pair.expect[1] and kinds[pair.expect[1]] == pair.expect[2]
-                  if pair.expect[0] == "event" else (pair.expect[1] in kinds) == pair.expect[2])
+            ok, _ = pair.verdict(kinds=[e[0] for e in adapter.events(params, x, v)[0]])
         if not ok:
             bad.append(pair.id)
     return bad
