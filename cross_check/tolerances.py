@@ -395,3 +395,24 @@ TOLERANCES.update({
             "entries carry float64 event times (1/v- amplifies them by <= ~1e3 on these cases; "
             "measured worst 4e-11); a wrong factor changes J by O(1)"),
 })
+
+# --- enclosures (reference.enclosure, issue 17) --------------------------------------------
+TOLERANCES.update({
+    "enclosure_vs_reference_dps60": Tol(
+        rtol=1e-50, atol=1e-50,
+        why="issue 17: a proved ball must contain the true value; the reference at dps 60 (72 "
+            "working digits) is within dps_tol(60) = 1e-55 of it on these states (a handful of "
+            "events, no grazing), so the reference may lie outside the ball by at most that: "
+            "1e-50 (relative to max(1, |value|)) is 5 decades of headroom, and a wrong ball "
+            "(a missed event, a wrong saltation factor) misses by O(1)"),
+    "golden_enclosure_rel": Tol(
+        rtol=1e-40, atol=0.0,
+        why="issue 17 acceptance: a proved golden case has relative radius <= 1e-40 for Phi "
+            "(the 40 written digits are then theorems up to their last-digit rounding)"),
+    "golden_enclosure_floor": Tol(
+        rtol=1e-43, atol=1e-60,
+        why="issue 17: the stored ball is the proved one widened to at least 1e-43 relative "
+            "(atol 1e-60 for exact zeros): still a proof (a superset of a proved ball), and an "
+            "independent 50-digit integrator (error ~1e-48 after a period's conditioning) "
+            "lands inside it; 1e-43 keeps 3 decades under golden_enclosure_rel"),
+})

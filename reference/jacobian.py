@@ -16,7 +16,8 @@ Walking the event log of ``[0, T]``, with the mode between events:
 * wall contact:                 ``[[0, 0], [0, 0]]`` (``contact``/``chatter`` ... ``release``)
 
 Frictionless scenes log no event at ``v = 0`` (a turn with factor 1: nothing to multiply).
-The Jacobian does not exist on grazing orbits (``1/v-`` blows up) and at chatter the
+The matrices take their arithmetic from the model (mpf or arb balls: one product, two
+number types).  The Jacobian does not exist on grazing orbits (``1/v-`` blows up) and at chatter the
 exit state does not depend on the entry (the zero matrix).
 """
 from __future__ import annotations
@@ -34,10 +35,10 @@ def _mul(P, Q):
 
 def flight_matrix(model, h):
     """Flight over ``h`` (damping: ``[[1, (1 - exp(-c h))/c], [0, exp(-c h)]]``)."""
-    one, zero = mpmath.mpf(1), mpmath.mpf(0)
+    one, zero = model.one, model.zero
     if model.damping:
-        E = mpmath.exp(-model.c * h)
-        return [[one, -mpmath.expm1(-model.c * h) / model.c], [zero, E]]
+        E = model.exp(-model.c * h)
+        return [[one, -model.expm1(-model.c * h) / model.c], [zero, E]]
     return [[one, h], [zero, one]]
 
 
@@ -52,7 +53,7 @@ def impact_matrix(model, A, v_before, t=None):
             f"jacobian: Phi' does not exist on this orbit: a grazing impact at t = "
             f"{mpmath.nstr(t, 20) if t is not None else '?'} with zero velocity before impact "
             f"(the reflection matrix has 1/v-)")
-    e, zero = model.e, mpmath.mpf(0)
+    e, zero = model.e, model.zero
     s = 1 if v_before > 0 else -1
     lower = ((1 + e) * A + (1 - e) * s * model.f) / v_before
     return [[-e, zero], [lower, -e]]
@@ -60,7 +61,7 @@ def impact_matrix(model, A, v_before, t=None):
 
 def turn_matrix(model, A):
     """Turning point: the speed after is scaled by ``(|A| - f)/(|A| + f)``."""
-    one, zero = mpmath.mpf(1), mpmath.mpf(0)
+    one, zero = model.one, model.zero
     return [[one, zero], [zero, (abs(A) - model.f) / (abs(A) + model.f)]]
 
 
@@ -82,8 +83,13 @@ def _flight(model, start, t):
 
 
 def product_of_table1(model, log):
-    """The Jacobian of the map ``(x0, v0) -> (x(t_end), v(t_end))`` of an event log."""
-    one, zero = mpmath.mpf(1), mpmath.mpf(0)
+    """The Jacobian of the map ``(x0, v0) -> (x(t_end), v(t_end))`` of an event log.
+
+    The arithmetic is the model's (``model.one``, ``.zero``, ``.exp``, ``.expm1``): mpf for
+    ``reference.model.Model``, arb balls for ``reference.enclosure`` (the same Table 1 product
+    over enclosures of the event data is an enclosure of ``Phi'``).
+    """
+    one, zero = model.one, model.zero
     J = [[one, zero], [zero, one]]
     stick = [[one, zero], [zero, zero]]
     nothing = [[zero, zero], [zero, zero]]

@@ -51,6 +51,9 @@ class Model:
         #: accepted when the noise of tiny bounces stalls the agreement (half the digits)
         self.chatter_tol_loose = mpmath.mpf(10) ** ((GUARD_DIGITS - mpmath.mp.dps) // 2) * self.T
         self._flight_class = self._choose_flight()
+        # the arithmetic of Table 1 (reference.jacobian): mpf here, arb in reference.enclosure
+        self.one, self.zero = mpmath.mpf(1), mpmath.mpf(0)
+        self.exp, self.expm1 = mpmath.exp, mpmath.expm1
 
     def _choose_flight(self):
         if self.position_forcing:

@@ -56,6 +56,11 @@ class _Expr:
             value = _eval_tree(self._tree)
         return +value
 
+    def evaluate(self, number, pi):
+        """The value in another arithmetic: ``number(Fraction)`` makes a constant, ``pi`` is
+        that arithmetic's pi (``reference.enclosure`` evaluates in arb balls this way)."""
+        return _eval_tree(self._tree, number, pi)
+
     def __float__(self) -> float:
         with mpmath.workprec(113):
             return float(_eval_tree(self._tree))
@@ -70,18 +75,24 @@ class _Expr:
         return repr(self.text)
 
 
-def _eval_tree(node: ast.AST) -> mpmath.mpf:
+def _mp_number(value: Fraction) -> mpmath.mpf:
+    return mpmath.mpf(value.numerator) / value.denominator
+
+
+def _eval_tree(node: ast.AST, number=_mp_number, pi=None):
+    """Evaluate an expression tree; ``number`` turns a ``Fraction`` into the arithmetic's
+    constant and ``pi`` is its pi (default: mpmath at the current precision)."""
     if isinstance(node, ast.Expression):
-        return _eval_tree(node.body)
+        return _eval_tree(node.body, number, pi)
     if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
-        return mpmath.mpf(Fraction(str(node.value)).numerator) / Fraction(str(node.value)).denominator
+        return number(Fraction(str(node.value)))
     if isinstance(node, ast.Name) and node.id == "pi":
-        return +mpmath.pi
+        return +mpmath.pi if pi is None else pi
     if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-        value = _eval_tree(node.operand)
+        value = _eval_tree(node.operand, number, pi)
         return -value if isinstance(node.op, ast.USub) else value
     if isinstance(node, ast.BinOp) and isinstance(node.op, _ALLOWED_BINOPS):
-        a, b = _eval_tree(node.left), _eval_tree(node.right)
+        a, b = _eval_tree(node.left, number, pi), _eval_tree(node.right, number, pi)
         op = node.op
         if isinstance(op, ast.Add):
             return a + b

@@ -1,0 +1,28 @@
+"""Enclosures: the reference's numbers as theorems (ball arithmetic, python-flint's arb).
+
+``enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0)`` re-proves the point
+integrator's itinerary for every start state of a box and returns balls that provably
+contain ``Phi^k`` and ``(Phi^k)'`` (``reference.enclosure.maps``); ``prove_periodic`` turns
+that into a computer-assisted proof of a periodic orbit (``reference.enclosure.orbits``).
+
+What is proved, and what is not
+-------------------------------
+* Proved, for the scene's *exact* parameters and every start in the box: the itinerary (the
+  kinds of the events in order), each event time in its ball, no other event, and ``Phi^k``,
+  ``(Phi^k)'`` in their balls.  The model is the one of ``reference.integrator``: Filippov
+  sticking, the reset ``v+ = -e v-``, chatter as the accumulation of infinitely many impacts
+  followed by wall contact.
+* Not proved: anything about position-dependent forcing (no closed-form flight; it would
+  need a validated ODE solver), a start on a grazing or a tangency (no box fixes the
+  itinerary there), and the *nonlinear* stability of a neutral centre (elliptic multipliers
+  are proved; stability needs KAM-type arguments).
+
+Modules: ``balls`` (precision, conversions, the scene as balls), ``motion`` (flights and
+rests on balls, event functions), ``certify`` (exclusion and Krawczyk roots), ``walk`` (the
+itinerary, event by event, chatter tails), ``maps`` (``enclose_map``), ``orbits``
+(``prove_periodic``).
+"""
+from reference.enclosure.certify import Unproved
+from reference.enclosure.maps import MapEnclosure, enclose_map
+
+__all__ = ["enclose_map", "MapEnclosure", "Unproved"]

@@ -1,0 +1,133 @@
+"""``enclose_map``: an enclosure of ``Phi^k`` and ``(Phi^k)'`` over a box of start states.
+
+The point integrator runs once, from the box's midpoint, at the working precision; the walk
+(``reference.enclosure.walk``) re-proves its itinerary for the whole box in ball arithmetic;
+``Phi^k`` is the closed-form state at ``t = kT`` on the enclosures, and ``(Phi^k)'`` the
+product of the paper's Table 1 matrices (``reference.jacobian.product_of_table1``, the same
+code as the point Jacobian) over the enclosures of the event data.  When a certificate fails
+at one precision because the precision cannot resolve it (a near-tangency), the walk is
+tried again at twice the precision, up to ``max_prec`` bits.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import lru_cache
+from typing import Optional
+
+import mpmath
+from flint import arb
+
+from reference.api import check_count
+from reference.enclosure.balls import (DEFAULT_PREC, BallModel, from_number, rel_radius, to_mpf,
+                                       workprec)
+from reference.enclosure.certify import Unproved
+from reference.enclosure.walk import Walk
+from reference.integrator import MAX_EVENTS, integrate
+from reference.jacobian import product_of_table1
+from reference.model import GUARD_DIGITS, Model
+from reference.scene import Scene
+
+#: The highest precision the retries reach (bits) unless the caller sets ``max_prec``.
+MAX_PREC = 1280
+
+
+@dataclass
+class MapEnclosure:
+    """What ``enclose_map`` proved.
+
+    ``proved``: every start state of the box has the itinerary ``events`` (kinds in order,
+    each time in its ball) and ``Phi^k`` in ``phi = (x, v)``, ``(Phi^k)'`` in ``jacobian``
+    (``None`` if it does not exist: a chatter run or contact makes it zero, which it is).
+    ``reason`` says why not when ``proved`` is False (then the balls are not claims).
+    ``prec`` is the precision (bits) of the proof, ``pieces`` the exclusion work.
+    """
+
+    proved: bool
+    reason: Optional[str] = None
+    phi: tuple = ()
+    jacobian: Optional[list] = None
+    events: list = field(default_factory=list)
+    prec: int = 0
+    pieces: int = 0
+
+    def rel_radius(self) -> float:
+        """The largest ``rad / |mid|`` of the two components of ``phi`` (``inf`` unproved)."""
+        if not self.proved:
+            return float("inf")
+        return max(rel_radius(b) for b in self.phi)
+
+
+@lru_cache(maxsize=32)
+def _ball_model(scene, prec):
+    return BallModel(scene)
+
+
+@lru_cache(maxsize=32)
+def _point_model(scene, prec):
+    return Model(scene)
+
+
+def _point_log(scene, x, v, periods, prec, max_events):
+    dps = int(prec / 3.33) + GUARD_DIGITS
+    with mpmath.workdps(dps):
+        model = _point_model(scene, mpmath.mp.prec)
+        log = integrate(model, mpmath.mpf(0), to_mpf(x), to_mpf(v), periods * model.T, max_events)
+        return log, (model.l, model.r)
+
+
+def _check(scene, periods, prec, max_prec, max_events):
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a reference.Scene, got {type(scene).__name__}")
+    check_count("periods", periods, 1)
+    check_count("prec", prec, 64)
+    check_count("max_prec", max_prec, prec)
+    check_count("max_events", max_events, 1)
+    if scene.has("position_forcing"):
+        raise ValueError("enclose_map: position-dependent forcing (wavenumber) has no closed-form "
+                         "flight; its enclosure needs a validated ODE solver (not provided)")
+
+
+def _box(value, radius, name):
+    centre = from_number(value)
+    radius = from_number(radius)
+    if not (radius >= 0):
+        raise ValueError(f"{name}_radius must be >= 0, got {radius}")
+    return centre if radius.is_zero() else centre + arb(0, radius.upper())
+
+
+def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, prec=DEFAULT_PREC,
+                max_prec=MAX_PREC, rel_radius=None, max_events=MAX_EVENTS) -> MapEnclosure:
+    """Enclose ``Phi^periods`` and its derivative over the box ``x +- x_radius``,
+    ``v +- v_radius`` (numbers as in ``reference.stroboscopic_map``: int, float, decimal str,
+    Fraction, mpf, or an arb ball for ``x``, ``v``).
+
+    Returns a :class:`MapEnclosure`; ``proved`` False with the reason where a certificate fails
+    at every precision up to ``max_prec`` bits.  With ``rel_radius``, a proof whose ``Phi``
+    balls are relatively wider than that is redone at twice the precision (up to
+    ``max_prec``; the narrowest proof is returned).  ``max_events`` bounds the point
+    integrator.
+    """
+    _check(scene, periods, prec, max_prec, max_events)
+    last, best = None, None
+    while prec <= max_prec:
+        with workprec(prec):
+            X, V = _box(x, x_radius, "x"), _box(v, v_radius, "v")
+            try:
+                best = _prove(scene, X, V, periods, prec, max_events)
+            except Unproved as exc:
+                last = str(exc)
+        if best is not None and (rel_radius is None or best.rel_radius() <= rel_radius):
+            return best
+        prec *= 2
+    return best if best is not None else MapEnclosure(False, reason=last, prec=prec // 2)
+
+
+def _prove(scene, X, V, periods, prec, max_events):
+    model = _ball_model(scene, prec)
+    points, walls = _point_log(scene, X.mid(), V.mid(), periods, prec, max_events)
+    t_end = periods * model.T
+    walk = Walk(model, points, t_end, walls)
+    log = walk.run(arb(0), X, V)
+    J = product_of_table1(model, log)
+    return MapEnclosure(True, phi=(log.x_end, log.v_end), jacobian=J, events=list(log),
+                        prec=prec, pieces=walk.pieces)

@@ -1,0 +1,346 @@
+"""The itinerary of the point integrator, re-proved event by event in ball arithmetic.
+
+The point integrator (``reference.integrator``) says *which* events happen and roughly when;
+the walk proves it for every start state of a box, with the semantics of
+``reference.integrator`` (the same modes, kinds and transitions):
+
+1. each event time is enclosed, and its existence and uniqueness proved, by a Krawczyk step
+   on its event function (``certify.root``);
+2. no other event happens before it: every event function of the motion is positive from
+   the start of the motion to the event (``certify.exclude``), and none reaches zero after
+   the last event before ``t_end``;
+3. the kind of each event is proved by certain comparisons: an impact has ``side v- > 0``
+   (not grazing); a zero of the velocity is a turn if ``s A < -f`` and a stop if
+   ``-f < s A``; each with the point integrator's kind, or the walk stops;
+4. a chatter run is followed bounce by bounce as long as the point integrator did, then its
+   tail is bounded (:func:`chatter_tail`) and wall contact follows;
+5. after the last event the state at ``t_end`` is the motion's closed form at ``t_end``.
+
+Any certificate that fails raises :class:`~reference.enclosure.certify.Unproved` with the
+reason: a grazing impact, a tangency, a stick-slip boundary, an event at ``t = kT``.
+"""
+from __future__ import annotations
+
+from flint import arb
+
+from reference.enclosure import certify, motion
+from reference.enclosure.balls import from_mpf, span
+from reference.enclosure.certify import Unproved
+from reference.integrator import Event, EventLog
+
+#: A chatter run is closed as soon as its tail is bounded by this fraction of T (else the
+#: walk follows more bounces, falling back to the last bounded tail if one fails).
+CHATTER_CLOSE = arb(2) ** -40
+#: Tries of the chatter window (each doubles it) before the tail is declared unbounded.
+CHATTER_TRIES = 12
+
+
+def chatter_tail(m, t, side, u):
+    """Bound the accumulation of a chatter run; returns ``W``: ``t_inf`` lies in
+    ``[t, t + W]`` for every start in the balls (``t``: last impact, ``u``: speed after it).
+
+    On a window where the push ``P = side A`` satisfies ``P_min - f - c V > 0``: a bounce of
+    speed ``u`` decelerates at ``>= D = P_min + f`` (its height ``<= u^2 / 2D``), returns at
+    ``R in [P_min - f - c V, P_max - f]`` (``V = u max(1, sqrt(R_max / D))`` bounds ``|v|``), so the next speed is ``<= rho u`` with
+    ``rho = e sqrt(R_max / D)`` and the bounce lasts ``<= K u``, ``K = 1/D + 1/sqrt(D R_min)``.
+    If ``rho < 1`` every later bounce is shorter and the tail is ``<= K u / (1 - rho)``; it is
+    valid if it fits in the window (then the push bounds held on every bounce), and the
+    heights stay below the gap (no other wall).  No bounce is simulated here.
+    """
+    f, e = m.f, m.e
+    W = m.T * arb(2) ** -20
+    for _ in range(CHATTER_TRIES):
+        push = side * m.force(None, span(t, t + W))
+        D, R_max = push.lower() + f, push.upper() - f
+        if not (D > 0 and R_max > 0):
+            break
+        speed = u * max(arb(1), (R_max / D).sqrt()).upper()     # |v| on a bounce
+        R_min = push.lower() - f - (m.c * speed if m.damping else 0)
+        rho = e * (R_max / D).sqrt() if R_min > 0 else arb(1)
+        if not rho < 1:
+            break
+        tail = (1 / D + 1 / (D * R_min).sqrt()) * u / (1 - rho)
+        if tail < W and u * u / (2 * D) < m.r - m.l:
+            return tail.upper()
+        W = 2 * tail.upper()
+    raise Unproved(f"chatter at t = {t.mid().str(15)}: no window on which the push exceeds "
+                   f"friction and the bounces shrink (the accumulation is not bounded)")
+
+
+class Walk:
+    """One walk: the point log ``points`` re-proved from balls ``(t0, x0, v0)`` to ``t_end``."""
+
+    def __init__(self, model, points, t_end, point_walls):
+        self.m, self.points, self.t_end = model, list(points), t_end
+        self.point_walls = point_walls          # (l, r) as the point integrator holds them
+        self.i = 0
+        self.log = EventLog()
+        self.mode, self.s, self.side, self.orders = "flight", 0, 0, {}
+        self.pieces = 0
+        self.fallback = None          # the last impact of a chatter run with a bounded tail
+
+    # -- point events -------------------------------------------------------------------
+    def peek(self):
+        return self.points[self.i] if self.i < len(self.points) else None
+
+    def take(self, kind):
+        ev = self.peek()
+        if ev is None or ev.kind != kind:
+            raise Unproved(f"the itinerary disagrees with the point integrator: expected "
+                           f"{kind}, point integrator has {ev.kind if ev else 'nothing'}")
+        self.i += 1
+        return ev
+
+    def emit(self, kind, v_before, count=None):
+        self.log.append(Event(kind, self.t, self.x, self.v, v_before, count))
+
+    def _wall_side(self, x_point):
+        """The wall a point event sits on (+1 r, -1 l; the point integrator puts the particle
+        exactly there), else 0."""
+        l, r = self.point_walls
+        return 1 if x_point == r else (-1 if x_point == l else 0)
+
+    # -- start ----------------------------------------------------------------------------
+    def start(self, t0, x0, v0):
+        m = self.m
+        self.t, self.x, self.v = t0, x0, v0
+        self.log.t0, self.log.x0, self.log.v0 = t0, x0, v0
+        if not (x0 >= m.l and x0 <= m.r):
+            raise Unproved("the start box is not inside the closed gap [l, r]")
+        at = [side for side in (1, -1) if x0.is_exact() and x0 == m.wall(side)]
+        if v0.is_zero():
+            return self._start_at_rest(at[0] if at else 0)
+        if v0.contains(0):
+            raise Unproved("the start's velocity encloses 0 (a start at rest or a grazing start)")
+        sign = 1 if v0 > 0 else -1
+        if at and at[0] == sign:
+            self.take("impact")
+            return self.impact(sign)
+        self.to_flight(sign, {f"wall {'r' if at[0] > 0 else 'l'}": 1} if at else {})
+
+    def _start_at_rest(self, side):
+        m = self.m
+        ev = self.peek()
+        held = ev is not None and ev.kind in ("stick", "contact") and ev.t == 0
+        if side:
+            if held:
+                self.take("contact")
+                self.v = arb(0)
+                self.emit("contact", arb(0))
+                self.mode, self.side = "contact", side
+                return
+            order = {"velocity": 1} if m.friction else {f"wall {'r' if side > 0 else 'l'}": 2}
+            return self.to_flight(-side, order)
+        if held:
+            self.take("stick")
+            self.emit("stick", arb(0))
+            self.mode = "stick"
+            return
+        if not m.friction:
+            return self.to_flight(0, {})
+        A = m.force(None, self.t)
+        sign = 1 if A > m.f else (-1 if A < -m.f else 0)
+        if not sign:
+            raise Unproved("a start at rest where the force is at the friction level")
+        self.to_flight(sign, {"velocity": 1})
+
+    def to_flight(self, s, orders):
+        self.mode, self.s, self.orders = "flight", (s if self.m.friction else 0), orders
+
+    # -- flights --------------------------------------------------------------------------
+    def functions(self):
+        m, s, orders = self.m, self.s, self.orders
+        if m.friction:
+            fns = [motion.distance(m, s), motion.velocity(s)]
+        else:
+            fns = [motion.distance(m, 1), motion.distance(m, -1)]
+        return [motion.EventFunction(fn.name, fn.offset, fn.coef, fn.const, orders.get(fn.name, 0))
+                for fn in fns]
+
+    def fly(self):
+        m = self.m
+        flight = motion.Flight(m, self.t, self.x, self.v, self.s)
+        fns = self.functions()
+        h_end = self.t_end - self.t
+        ev = self.peek()
+        what = f"flight from t = {self.t.mid().str(15)}"
+        if ev is None:
+            for fn in fns:
+                self.pieces += certify.exclude(flight, fn, arb(0), h_end.upper(), what)
+            stack = flight.stack(h_end)
+            self.t, self.x, self.v = self.t_end, stack[0], stack[1]
+            return True
+        side = self._wall_side(ev.x)
+        if ev.kind == "impact" and side:
+            fired = next(fn for fn in fns if fn.name == f"wall {'r' if side > 0 else 'l'}")
+        elif ev.kind in ("turn", "stick") and not side and m.friction:
+            fired = fns[1]
+        else:
+            raise Unproved(f"a {ev.kind} at t = {mpstr(ev.t)} at x = {mpstr(ev.x)} reached from "
+                           f"flight (a grazing touch or a turning point at a wall)")
+        guess = (from_mpf(ev.t) - self.t.mid()).mid()
+        wide, tight = certify.root(flight, fired, guess, arb(0), what)
+        if not tight < h_end:
+            raise Unproved(f"{what}: the {ev.kind} at t = {mpstr(ev.t)} may be at t_end "
+                           f"(an event at t = kT)")
+        for fn in fns:
+            hi = wide.lower() if fn is fired else tight.upper()
+            self.pieces += certify.exclude(flight, fn, arb(0), hi, what)
+        stack = flight.stack(tight)
+        self.t, self.x, self.v = self.t + tight, stack[0], stack[1]
+        self.i += 1
+        if ev.kind == "impact":
+            return self.impact_from_flight(side)
+        return self.velocity_zero(ev.kind)
+
+    def impact_from_flight(self, side):
+        if not side * self.v > 0:
+            raise Unproved(f"grazing impact at t = {self.t.mid().str(15)}: the velocity before "
+                           f"it encloses 0")
+        return self.impact(side)
+
+    def impact(self, side):
+        m = self.m
+        v_before = self.v
+        self.x, self.v = m.wall(side), -m.e * v_before
+        self.emit("impact", v_before)
+        if not side * self.v < 0:
+            raise Unproved(f"impact at t = {self.t.mid().str(15)} leaves no speed (contact)")
+        ahead = self._chatter_ahead(side)
+        if ahead is not None:
+            try:
+                tail = chatter_tail(m, self.t, side, -side * self.v)
+            except Unproved:
+                if ahead == self.i:         # the point integrator stops here: so must we
+                    raise
+            else:
+                if tail < CHATTER_CLOSE * m.T or ahead == self.i:
+                    return self.close_chatter(side, ahead, tail)
+                self.fallback = (self.t, self.v, len(self.log), side, ahead, tail)
+        self.to_flight(-side, {} if m.friction else {f"wall {'r' if side > 0 else 'l'}": 1})
+        return False
+
+    def velocity_zero(self, kind):
+        m, s = self.m, self.s
+        self.v = arb(0)
+        sA = s * m.force(self.x, self.t)
+        if kind == "turn" and sA < -m.f:
+            self.emit("turn", arb(0))
+            self.to_flight(-s, {"velocity": 1})
+            return False
+        if kind == "stick" and sA > -m.f:
+            self.emit("stick", arb(0))
+            self.mode = "stick"
+            return False
+        raise Unproved(f"a zero of the velocity at t = {self.t.mid().str(15)} where the force "
+                       f"may be at the friction level (a stick-slip boundary)")
+
+    def _chatter_ahead(self, side):
+        """The index of the point integrator's chatter event if the run at ``side`` ends in
+        one (only turns and impacts at this wall before it), else None."""
+        for j in range(self.i, len(self.points)):
+            ev = self.points[j]
+            if ev.kind == "chatter":
+                return j
+            if not (ev.kind == "turn" or (ev.kind == "impact" and self._wall_side(ev.x) == side)):
+                return None
+        return None
+
+    def close_chatter(self, side, index, tail):
+        """Close the run at ``side`` now with the tail bound ``tail`` (:func:`chatter_tail`),
+        skip the point integrator's remaining bounces (the bound covers them) and its chatter
+        event, and rest at the wall from the accumulation time on."""
+        m = self.m
+        self.fallback = None
+        t_inf = span(self.t.lower(), self.t.upper() + tail)
+        if not t_inf < self.t_end:
+            raise Unproved("the chatter accumulates at t_end (an event at t = kT)")
+        simulated = 0
+        for ev in reversed(self.log):
+            if ev.kind not in ("impact", "turn"):
+                break
+            simulated += ev.kind == "impact"
+        self.i = index + 1
+        self.t, self.x, self.v = t_inf, m.wall(side), arb(0)
+        self.emit("chatter", arb(0), simulated)
+        self.mode, self.side = "contact", side
+        return False
+
+    # -- rests ----------------------------------------------------------------------------
+    def rest(self):
+        m = self.m
+        rest = motion.Rest(m, self.t, self.x)
+        stuck_for_good = m.F <= m.f
+        if self.mode == "stick":
+            fns = [] if stuck_for_good else [motion.slip(m, 1), motion.slip(m, -1)]
+            kind = "slip"
+        else:
+            fns = [] if stuck_for_good else [motion.release(m, self.side)]
+            kind = "release"
+        lo = self.t.lower()
+        what = f"{self.mode} from t = {self.t.mid().str(15)}"
+        ev = self.peek()
+        if ev is None:
+            for fn in fns:
+                self.pieces += certify.exclude(rest, fn, lo, self.t_end.upper(), what)
+            self.t, self.v = self.t_end, arb(0)
+            return True
+        self.take(kind)
+        guess = from_mpf(ev.t)
+        if not guess > self.t.upper():
+            raise Unproved(f"{what}: it ends as it begins (the force at the friction level: "
+                           f"a stick-slip boundary)")
+        if self.mode == "stick":
+            sigma = 1 if m.force(None, guess) > 0 else -1
+            fired = fns[0] if sigma > 0 else fns[1]
+        else:
+            sigma, fired = -self.side, fns[0]
+        wide, tight = certify.root(rest, fired, guess, self.t.upper(), what)
+        if not tight < self.t_end:
+            raise Unproved(f"{what}: the {kind} may be at t_end (an event at t = kT)")
+        for fn in fns:
+            hi = wide.lower() if fn is fired else tight.upper()
+            self.pieces += certify.exclude(rest, fn, lo, hi, what)
+        self.t, self.v = tight, arb(0)
+        self.emit(kind, arb(0))
+        if m.friction:
+            self.to_flight(sigma, {"velocity": 2})
+        else:
+            self.to_flight(0, {f"wall {'r' if self.side > 0 else 'l'}": 3})
+        return False
+
+    def restore_fallback(self):
+        """A bounce of a chatter run could not be proved (late bounces are too short for
+        absolute coordinates): close the run at the last impact whose tail was bounded."""
+        t, v, length, side, index, tail = self.fallback
+        del self.log[length:]
+        self.t, self.x, self.v = t, self.m.wall(side), v
+        return self.close_chatter(side, index, tail)
+
+    # -- the loop -------------------------------------------------------------------------
+    def step(self):
+        try:
+            return self.fly() if self.mode == "flight" else self.rest()
+        except Unproved:
+            if self.fallback is None:
+                raise
+            return self.restore_fallback()
+
+    def run(self, t0, x0, v0):
+        """Walk from ``(t0, x0, v0)`` to ``t_end``; returns the ball ``EventLog``."""
+        self.start(t0, x0, v0)
+        for _ in range(len(self.points) + 2):
+            done = self.step()
+            if done:
+                log = self.log
+                log.t_end, log.x_end, log.v_end = self.t_end, self.x, self.v
+                log.mode_end = self.mode
+                if self.i != len(self.points):
+                    raise Unproved("the point integrator logged events the walk did not reach")
+                return log
+        raise Unproved("the walk did not finish within the point integrator's events")
+
+
+def mpstr(value) -> str:
+    """A point value, 15 digits."""
+    return from_mpf(value).mid().str(15)

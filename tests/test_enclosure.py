@@ -1,0 +1,164 @@
+"""reference.enclosure: balls that provably contain Phi, Phi' and the event times.
+
+Every proved ball is checked against the *point* reference at higher precision (an
+independent code path: mpmath closed forms and the certified point event finder, not the
+ball walk), for one state of each kind of itinerary: flights and impacts, turns, sticking,
+chatter (its accumulation time too), restitution, damping, several periods, and a box of
+start states.  Unprovable states must say why; bad input must raise.
+"""
+import random
+
+import mpmath
+import pytest
+from flint import arb, ctx
+
+import reference
+from cross_check import scenes
+from cross_check.tolerances import tol
+from reference.enclosure import enclose_map, motion
+from reference.enclosure import certify
+from reference.enclosure.balls import BallModel, from_mpf, from_number, workprec
+
+DPS = 60
+TOL = tol("enclosure_vs_reference_dps60")
+
+#: (scene, x, v, what the itinerary holds) -- one per kind of itinerary
+STATES = [
+    ("fig:narrow", "0.3", "0.2", "impacts, frictionless"),
+    ("fig:narrow-with-friction", 0.27689242730111235, -0.5784993511404171, "impacts and turns"),
+    ("fig:many:wide/f=0.3", "10", "0", "sticking from the start, then slip"),
+    ("fig:many:wide/f=0.3", "10.47213719194537815912224858428482513296",
+     "-1.099498551433351625825033558234472341516", "turn, stick, slip, turn"),
+    ("fig:many:wide/f=0.3", "19.999", "0.01", "chatter at r, contact, release"),
+    ("effect:restitution", "0.5", "1.5", "restitution"),
+    ("effect:damping", "-0.25", "0.75", "damping"),
+    ("effect:zeno", "0.7", "0.1", "frictionless chatter with restitution"),
+    ("stuck/F<f", "0.4", "0.3", "stops for good"),
+]
+
+
+def _inside(ball, value, tolerance=TOL):
+    """``value`` (an mpf) lies in ``ball`` up to the reference's own error."""
+    point = from_mpf(value)
+    slack = tolerance.atol + tolerance.rtol * max(1, abs(float(value)))
+    return bool(abs(point - ball.mid()) <= ball.rad() + slack)
+
+
+@pytest.mark.parametrize("name, x, v, what", STATES, ids=[s[3] for s in STATES])
+def test_map_and_jacobian_contain_the_point_reference(name, x, v, what):
+    sc = scenes.scene(name)
+    enc = enclose_map(sc, x, v)
+    assert enc.proved, enc.reason
+    xr, vr = reference.stroboscopic_map(sc, x, v, dps=DPS)
+    with workprec(enc.prec):
+        assert _inside(enc.phi[0], xr) and _inside(enc.phi[1], vr), (enc.phi, xr, vr)
+        J = reference.jacobian(sc, x, v, dps=DPS)
+        for i in range(2):
+            for j in range(2):
+                assert _inside(enc.jacobian[i][j], J[i][j]), (i, j, enc.jacobian, J)
+    assert enc.rel_radius() <= tol("golden_enclosure_rel").rtol
+
+
+def test_event_times_and_kinds_match_the_point_log():
+    sc = scenes.scene("fig:many:wide/f=0.3")
+    x, v = "10.47213719194537815912224858428482513296", "-1.099498551433351625825033558234472341516"
+    enc = enclose_map(sc, x, v)
+    log = reference.trajectory(sc, x, v, sc.period and mpmath.mpf(2) * mpmath.pi, dps=DPS)
+    assert [e.kind for e in enc.events] == [e.kind for e in log]
+    with workprec(enc.prec):
+        for ball, point in zip(enc.events, log):
+            assert _inside(ball.t, point.t), (ball, point)
+
+
+def test_the_chatter_accumulation_time_is_enclosed():
+    sc = scenes.scene("fig:many:wide/f=0.3")
+    enc = enclose_map(sc, "19.999", "0.01")
+    log = reference.trajectory(sc, "19.999", "0.01", 2 * mpmath.pi, dps=DPS)
+    ball = next(e for e in enc.events if e.kind == "chatter")
+    point = next(e for e in log if e.kind == "chatter")
+    with workprec(enc.prec):
+        assert _inside(ball.t, point.t)
+    # the tail bound is honest but coarse: the accumulation time is a claim, not 40 digits
+    assert float(ball.t.rad()) < 1e-3
+
+
+def test_several_periods_are_one_walk():
+    sc = scenes.scene("fig:narrow-with-friction")
+    enc = enclose_map(sc, "0.3", "0.2", periods=3)
+    assert enc.proved, enc.reason
+    xr, vr = reference.stroboscopic_map(sc, "0.3", "0.2", periods=3, dps=DPS)
+    with workprec(enc.prec):
+        assert _inside(enc.phi[0], xr) and _inside(enc.phi[1], vr)
+
+
+def test_a_box_encloses_every_start_in_it():
+    sc = scenes.scene("fig:narrow")
+    centre, radius = (mpmath.mpf("0.3"), mpmath.mpf("0.2")), mpmath.mpf("1e-12")
+    enc = enclose_map(sc, centre[0], centre[1], x_radius=radius, v_radius=radius)
+    assert enc.proved, enc.reason
+    rng = random.Random(17)
+    with workprec(enc.prec):
+        for _ in range(6):
+            x = centre[0] + radius * (2 * rng.random() - 1)
+            v = centre[1] + radius * (2 * rng.random() - 1)
+            xr, vr = reference.stroboscopic_map(sc, x, v, dps=DPS)
+            assert _inside(enc.phi[0], xr) and _inside(enc.phi[1], vr)
+            J = reference.jacobian(sc, x, v, dps=DPS)
+            assert all(_inside(enc.jacobian[i][j], J[i][j]) for i in range(2) for j in range(2))
+
+
+@pytest.mark.parametrize("x, v, x_radius, v_radius, words", [
+    ("0.3", "0", 0, "1e-30", "velocity encloses 0"),
+    ("0.3", "0.2", "0.01", 0, ""),            # the itinerary changes inside a wide box
+])
+def test_unprovable_boxes_say_why(x, v, x_radius, v_radius, words):
+    sc = scenes.scene("fig:narrow-with-friction")
+    enc = enclose_map(sc, x, v, x_radius=x_radius, v_radius=v_radius, max_prec=320)
+    assert not enc.proved
+    assert words in enc.reason and len(enc.reason) > 20
+
+
+@pytest.mark.parametrize("kwargs, error", [
+    ({"periods": 0}, ValueError),
+    ({"periods": 1.5}, TypeError),
+    ({"prec": 10}, ValueError),
+    ({"x_radius": "-1e-3"}, ValueError),
+    ({"max_prec": 100}, ValueError),
+])
+def test_bad_arguments_raise(kwargs, error):
+    with pytest.raises(error):
+        enclose_map(scenes.scene("fig:narrow"), "0.3", "0.2", **kwargs)
+
+
+def test_position_forcing_and_wrong_types_are_refused():
+    with pytest.raises(ValueError, match="position-dependent"):
+        enclose_map(scenes.scene("fig:xpotno"), "0.3", "0.2")
+    with pytest.raises(TypeError, match="scene"):
+        enclose_map("fig:narrow", "0.3", "0.2")
+    with pytest.raises(TypeError):
+        enclose_map(scenes.scene("fig:narrow"), [0.3], "0.2")
+
+
+def test_precision_does_not_leak():
+    before = ctx.prec
+    enclose_map(scenes.scene("fig:narrow"), "0.3", "0.2", rel_radius=1e-150)
+    enclose_map(scenes.scene("fig:narrow-with-friction"), "0.3", "0", v_radius="1e-30")
+    assert ctx.prec == before
+
+
+def test_krawczyk_encloses_a_closed_form_root_and_exclusion_refuses_a_root():
+    """The slip time of sticking from t = 0 is acos(f/F)/w in closed form (mpmath)."""
+    sc = scenes.scene("fig:many:wide/f=0.3")
+    with workprec(320):
+        m = BallModel(sc)
+        rest = motion.Rest(m, arb(0), arb(10))
+        up = motion.slip(m, 1)          # f - A: positive while A < f
+        # A = cos t first rises through f at t = 2 pi - acos(f)
+        with mpmath.workdps(100):
+            exact = 2 * mpmath.pi - mpmath.acos(mpmath.mpf("0.3"))
+        wide, tight = certify.root(rest, up, from_number(5.0), arb(1), "test")
+        assert _inside(tight, exact, tol("enclosure_vs_reference_dps60"))
+        assert float(tight.rad()) < 1e-80 and wide.contains(tight)
+        assert certify.exclude(rest, up, arb(2), wide.lower(), "test") > 0
+        with pytest.raises(certify.Unproved, match="slip up"):
+            certify.exclude(rest, up, arb(2), arb(6), "test")
