@@ -14,6 +14,12 @@ reads it with ``importlib.resources``, so a ``pip install`` of the suite has it 
   form (kind, t, x, v after, v before); for float64 inputs, ``band``: whether
   the reference's itinerary flips under a ``compare_band_ulps`` move (``compare.reference_in_band``);
 
+* ``enclosure``: the proof (``reference.enclosure.enclose_map``): ``proved`` and, if so, balls
+  ``[mid, radius]`` that provably contain ``Phi`` and ``Phi'`` (``ENCLOSURE_DIGITS``-digit
+  midpoints, radii rounded up and widened to ``golden_enclosure_floor``: a superset of a proved
+  ball is proved), ``radius`` the relative radius actually proved for ``Phi`` and ``prec`` the
+  bits it took; else ``reason``, why no proof holds;
+
 every number from ``reference`` at ``GOLDEN_DPS`` digits, written with ``DIGITS`` significant
 digits, after checking that a run at ``GOLDEN_DPS + 20`` digits agrees to those digits
 (tolerance ``golden_self_agreement``) and has the same itinerary.  If any check fails, nothing
@@ -26,6 +32,7 @@ from __future__ import annotations
 
 import json
 import math
+from fractions import Fraction
 import pathlib
 import sys
 import time
@@ -35,12 +42,16 @@ import mpmath
 from cross_check.agreement import compare
 from cross_check import scenes
 from cross_check.tolerances import tol
+from reference.enclosure import enclose_map
+from reference.enclosure.balls import from_fraction, workprec
 
 GOLDEN_DPS = 90
 CHECK_DPS = GOLDEN_DPS + 20
 DIGITS = 40
 N_SAMPLE = 8
-FORMAT = 1
+FORMAT = 2
+#: Significant digits of an enclosure's midpoint (its rounding is added to the radius).
+ENCLOSURE_DIGITS = 50
 DEFAULT_DIR = pathlib.Path(__file__).resolve().parent / "data" / "golden"   # where `golden` writes in a checkout
 
 
@@ -158,6 +169,41 @@ def record(sc, res: dict) -> dict:
     }
 
 
+def _radius_text(value: float) -> str:
+    """A radius rounded *up* to 3 significant digits (``"0"`` for an exact ball)."""
+    if value == 0:
+        return "0"
+    exponent = math.floor(math.log10(value)) - 2
+    mantissa = math.ceil(value * (1 + 1e-12) / 10.0 ** exponent)
+    return f"{mantissa / 100:.2f}e{exponent + 2}"
+
+
+def ball_record(ball) -> list:
+    """``[mid, radius]`` strings of a ball that contains ``ball`` and is at least
+    ``golden_enclosure_floor`` wide (at the current arb precision)."""
+    floor = tol("golden_enclosure_floor")
+    mid = ball.mid().str(ENCLOSURE_DIGITS, radius=False)
+    written = from_fraction(Fraction(mid))
+    radius = (abs(written - ball.mid()) + ball.rad()).upper()
+    widened = max(float(radius), floor.rtol * abs(float(written)) + floor.atol)
+    return [mid, _radius_text(widened)]
+
+
+def enclosure(sc, case) -> dict:
+    """The proof record of one input (see the module docstring)."""
+    if sc.has("position_forcing"):
+        return {"proved": False, "reason": "position-dependent forcing: no closed-form flight "
+                "(its enclosure needs a validated ODE solver, which the suite does not have)"}
+    x, v = (float(case.x), float(case.v)) if case.exact == "float64" else (case.x, case.v)
+    enc = enclose_map(sc, x, v, rel_radius=tol("golden_enclosure_floor").rtol)
+    if not enc.proved:
+        return {"proved": False, "reason": enc.reason}
+    with workprec(enc.prec):
+        return {"proved": True, "radius": _radius_text(enc.rel_radius()), "prec": enc.prec,
+                "phi": [ball_record(b) for b in enc.phi],
+                "jacobian": [[ball_record(b) for b in row] for row in enc.jacobian]}
+
+
 def scene_file(name: str, n_sample: int = N_SAMPLE, progress=None) -> dict:
     """The golden record of one scene (raises ``GoldenError`` on a failed self-check)."""
     sc = scenes.scene(name)
@@ -176,6 +222,7 @@ def scene_file(name: str, n_sample: int = N_SAMPLE, progress=None) -> dict:
             entry["inputs"][label] = {"x": inp.x, "v": inp.v, **record(sc, res)}
             if inp.exact == "float64":
                 entry["inputs"][label]["band"] = compare.reference_in_band(sc, inp)
+            entry["inputs"][label]["enclosure"] = enclosure(sc, inp)
         cases.append(entry)
         if progress:
             progress(f"golden {name}: {case.name}")
@@ -196,9 +243,17 @@ def scene_file(name: str, n_sample: int = N_SAMPLE, progress=None) -> dict:
             "period": "events and Phi over [0, T], T = 2 pi / omega, from t0 = 0",
             "band": "float64 inputs: true if the reference's itinerary (dps 50, canonical) changes "
                     "under a move of compare_band_ulps ulps (the near-grazing band)",
+            "enclosure": "reference.enclosure.enclose_map (python-flint " + _flint_version() + " arb "
+                         "balls): the itinerary re-proved by Krawczyk steps and exclusions; balls "
+                         "[mid, radius] widened to golden_enclosure_floor",
         },
         "cases": cases,
     }
+
+
+def _flint_version() -> str:
+    import flint
+    return flint.__version__
 
 
 def dumps(data: dict) -> str:
