@@ -162,3 +162,40 @@ def test_krawczyk_encloses_a_closed_form_root_and_exclusion_refuses_a_root():
         assert certify.exclude(rest, up, arb(2), wide.lower(), "test") > 0
         with pytest.raises(certify.Unproved, match="slip up"):
             certify.exclude(rest, up, arb(2), arb(6), "test")
+
+
+# --- periodic orbits (reference.enclosure.orbits) --------------------------------------------
+from reference import paper  # noqa: E402
+from reference.enclosure.orbits import prove_periodic  # noqa: E402
+
+
+@pytest.mark.parametrize("name, branch, kind", [
+    ("fig:many:wide/f=0.3", 1, "elliptic"), ("fig:many:wide/f=0.3", 2, "saddle"),
+    ("fig:wide:b", 1, "elliptic"), ("fig:many:2pi/f=0.1", 2, "saddle"),
+])
+def test_symmetric_solutions_are_proved_with_the_closed_form_multipliers(name, branch, kind):
+    """The paper's symmetric solutions (closed forms of reference.paper, corrected): a unique
+    fixed point in a small box, its multipliers enclosing the closed-form ones."""
+    sc = scenes.scene(name)
+    sol = paper.symmetric_solution(sc, branch, dps=DPS)
+    proof = prove_periodic(sc, *sol.state0())
+    assert proof.proved, proof.reason
+    assert proof.kind == kind and proof.itinerary == ["impact", "impact"]
+    expected = sol.multipliers()
+    with workprec(proof.prec):
+        if kind == "saddle":
+            got = sorted(proof.multipliers, key=lambda b: float(b.mid()))
+            want = sorted((e.real for e in expected), key=float)
+            assert all(_inside(b, w) for b, w in zip(got, want)), (got, want)
+        else:
+            (re, im), = proof.multipliers
+            im_ref = expected[0].imag if expected[0].imag > 0 else -expected[0].imag  # exact
+            assert _inside(re, expected[0].real) and _inside(im, im_ref)
+
+
+def test_a_family_of_fixed_points_is_refused_with_the_reason():
+    """Without walls in reach and without friction every state at rest in phase is periodic
+    (v(T) = v0, x(T) = x0 + v0 T): the fixed points form a line, none is isolated."""
+    sc = scenes.scene("fig:wide:b")
+    proof = prove_periodic(sc, "10", "-0.15915494309189533576888376337251436203445964574046", phase=0)
+    assert not proof.proved and "not isolated" in proof.reason

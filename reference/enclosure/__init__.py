@@ -24,5 +24,6 @@ itinerary, event by event, chatter tails), ``maps`` (``enclose_map``), ``orbits`
 """
 from reference.enclosure.certify import Unproved
 from reference.enclosure.maps import MapEnclosure, enclose_map
+from reference.enclosure.orbits import OrbitProof, prove_periodic
 
-__all__ = ["enclose_map", "MapEnclosure", "Unproved"]
+__all__ = ["enclose_map", "MapEnclosure", "prove_periodic", "OrbitProof", "Unproved"]

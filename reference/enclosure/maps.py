@@ -11,6 +11,7 @@ tried again at twice the precision, up to ``max_prec`` bits.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from fractions import Fraction
 from functools import lru_cache
 from typing import Optional
 
@@ -18,8 +19,8 @@ import mpmath
 from flint import arb
 
 from reference.api import check_count
-from reference.enclosure.balls import (DEFAULT_PREC, BallModel, from_number, rel_radius, to_mpf,
-                                       workprec)
+from reference.enclosure.balls import (DEFAULT_PREC, BallModel, from_fraction, from_number,
+                                       rel_radius, to_mpf, workprec)
 from reference.enclosure.certify import Unproved
 from reference.enclosure.walk import Walk
 from reference.integrator import MAX_EVENTS, integrate
@@ -67,11 +68,12 @@ def _point_model(scene, prec):
     return Model(scene)
 
 
-def _point_log(scene, x, v, periods, prec, max_events):
+def _point_log(scene, x, v, phase, periods, prec, max_events):
     dps = int(prec / 3.33) + GUARD_DIGITS
     with mpmath.workdps(dps):
         model = _point_model(scene, mpmath.mp.prec)
-        log = integrate(model, mpmath.mpf(0), to_mpf(x), to_mpf(v), periods * model.T, max_events)
+        t0 = model.T * phase.numerator / phase.denominator
+        log = integrate(model, t0, to_mpf(x), to_mpf(v), t0 + periods * model.T, max_events)
         return log, (model.l, model.r)
 
 
@@ -95,11 +97,13 @@ def _box(value, radius, name):
     return centre if radius.is_zero() else centre + arb(0, radius.upper())
 
 
-def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, prec=DEFAULT_PREC,
+def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, phase=0, prec=DEFAULT_PREC,
                 max_prec=MAX_PREC, rel_radius=None, max_events=MAX_EVENTS) -> MapEnclosure:
     """Enclose ``Phi^periods`` and its derivative over the box ``x +- x_radius``,
     ``v +- v_radius`` (numbers as in ``reference.stroboscopic_map``: int, float, decimal str,
-    Fraction, mpf, or an arb ball for ``x``, ``v``).
+    Fraction, mpf, or an arb ball for ``x``, ``v``).  ``phase`` (a rational in ``[0, 1)``, as
+    int, Fraction or decimal str) moves the section: the map runs from ``t0 = phase T`` to
+    ``t0 + periods T`` (default 0: the paper's ``Phi``).
 
     Returns a :class:`MapEnclosure`; ``proved`` False with the reason where a certificate fails
     at every precision up to ``max_prec`` bits.  With ``rel_radius``, a proof whose ``Phi``
@@ -108,12 +112,13 @@ def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, prec=DEFAULT_
     integrator.
     """
     _check(scene, periods, prec, max_prec, max_events)
+    phase = _phase(phase)
     last, best = None, None
     while prec <= max_prec:
         with workprec(prec):
             X, V = _box(x, x_radius, "x"), _box(v, v_radius, "v")
             try:
-                best = _prove(scene, X, V, periods, prec, max_events)
+                best = _prove(scene, X, V, phase, periods, prec, max_events)
             except Unproved as exc:
                 last = str(exc)
         if best is not None and (rel_radius is None or best.rel_radius() <= rel_radius):
@@ -122,12 +127,25 @@ def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, prec=DEFAULT_
     return best if best is not None else MapEnclosure(False, reason=last, prec=prec // 2)
 
 
-def _prove(scene, X, V, periods, prec, max_events):
+def _phase(phase):
+    try:
+        value = Fraction(phase.strip() if isinstance(phase, str) else phase)
+    except (TypeError, ValueError):
+        raise TypeError(f"phase must be a rational number in [0, 1) (int, Fraction or decimal "
+                        f"str), got {phase!r}") from None
+    if isinstance(phase, (bool, float)) or not 0 <= value < 1:
+        raise ValueError(f"phase must be a rational number in [0, 1) (int, Fraction or decimal "
+                         f"str), got {phase!r}")
+    return value
+
+
+def _prove(scene, X, V, phase, periods, prec, max_events):
     model = _ball_model(scene, prec)
-    points, walls = _point_log(scene, X.mid(), V.mid(), periods, prec, max_events)
-    t_end = periods * model.T
+    points, walls = _point_log(scene, X.mid(), V.mid(), phase, periods, prec, max_events)
+    t0 = model.T * from_fraction(phase)
+    t_end = t0 + periods * model.T
     walk = Walk(model, points, t_end, walls)
-    log = walk.run(arb(0), X, V)
+    log = walk.run(t0, X, V)
     J = product_of_table1(model, log)
     return MapEnclosure(True, phi=(log.x_end, log.v_end), jacobian=J, events=list(log),
                         prec=prec, pieces=walk.pieces)

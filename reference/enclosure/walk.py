@@ -72,6 +72,7 @@ class Walk:
 
     def __init__(self, model, points, t_end, point_walls):
         self.m, self.points, self.t_end = model, list(points), t_end
+        self.point_t0 = points.t0
         self.point_walls = point_walls          # (l, r) as the point integrator holds them
         self.i = 0
         self.log = EventLog()
@@ -121,7 +122,7 @@ class Walk:
     def _start_at_rest(self, side):
         m = self.m
         ev = self.peek()
-        held = ev is not None and ev.kind in ("stick", "contact") and ev.t == 0
+        held = ev is not None and ev.kind in ("stick", "contact") and ev.t == self.point_t0
         if side:
             if held:
                 self.take("contact")

@@ -1,0 +1,226 @@
+"""Computer-assisted proofs of periodic orbits: the Krawczyk operator on ``Phi^k(z) - z``.
+
+For a box ``Z`` around an approximate fixed point ``z~`` of ``P = Phi^k`` with a fixed
+itinerary, and any real matrix ``C`` (here ``(P'(z~) - I)^-1`` from midpoints),
+
+    K(Z) = z~ - C (P(z~) - z~) + (I - C (P'(Z) - I)) (Z - z~).
+
+If ``K(Z)`` lies in the interior of ``Z``, then ``P`` has exactly one fixed point in ``Z``, and
+it lies in ``K(Z)`` (Krawczyk 1969; Neumaier, *Interval Methods for Systems of Equations*,
+1990, Thm 5.1.8).  ``P(z~)`` and ``P'(Z)`` are enclosures of ``reference.enclosure.maps`` (the
+latter over the whole box, which also proves that every state of the box has the same
+itinerary, so that ``P`` is smooth there).
+
+The multipliers are the eigenvalues of ``P'`` at the fixed point, enclosed by those of ``P'(K)``
+through ``tr`` and ``det``: ``lambda = (tr +- sqrt(tr^2 - 4 det)) / 2``.  The type follows when
+the enclosures decide it: a saddle (real, ``|l1| > 1 > |l2|``), an attracting focus or node
+(``|l| < 1``: hyperbolic, so attracting for the map too, by Hartman-Grobman), or -- without
+friction, restitution and damping, where every Table 1 factor has determinant 1, so ``det P' = 1``
+exactly -- an elliptic point (non-real multipliers on the unit circle).  Whether an elliptic
+point is *nonlinearly* stable is not decided here (that needs KAM-type arguments); and a fixed
+point that is not isolated (``det(P' - I) = 0``, a family of fixed points) cannot pass the test.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Optional
+
+import mpmath
+from flint import arb
+
+import reference
+from reference.api import check_count
+from reference.enclosure.balls import DEFAULT_PREC, from_mpf, from_number, to_mpf, workprec
+from reference.enclosure.maps import enclose_map
+
+#: Newton steps on the midpoints before the proof (each one enclosure of ``P`` at a point).
+NEWTON_STEPS = 30
+
+
+@dataclass
+class OrbitProof:
+    """The outcome of :func:`prove_periodic`.
+
+    ``proved``: a unique fixed point of ``Phi^k`` lies in ``box`` (centre +- ``radius``), in
+    the balls ``point = (x, v)``; ``multipliers`` their enclosures (real balls, or
+    ``(re, im)`` pairs for a complex pair); ``kind`` the type the enclosures prove and
+    ``stability`` what that says (and what it does not); ``itinerary`` the event kinds of one
+    orbit period.  Else ``reason``.
+    """
+
+    proved: bool
+    periods: int
+    reason: Optional[str] = None
+    point: tuple = ()
+    radius: float = 0.0
+    multipliers: list = field(default_factory=list)
+    trace: object = None
+    det: object = None
+    kind: str = ""
+    stability: str = ""
+    itinerary: list = field(default_factory=list)
+    prec: int = 0
+    seconds: float = 0.0
+    phase: object = 0
+
+
+def _mat_sub_identity(J):
+    return [[J[0][0] - 1, J[0][1]], [J[1][0], J[1][1] - 1]]
+
+
+def _inverse(M):
+    det = M[0][0] * M[1][1] - M[0][1] * M[1][0]
+    return [[M[1][1] / det, -M[0][1] / det], [-M[1][0] / det, M[0][0] / det]]
+
+
+def _mid(M):
+    return [[M[i][j].mid() for j in range(2)] for i in range(2)]
+
+
+def _matvec(M, z):
+    return [M[0][0] * z[0] + M[0][1] * z[1], M[1][0] * z[0] + M[1][1] * z[1]]
+
+
+def _newton(scene, z, periods, phase, prec):
+    """Polish ``z`` on midpoints: ``z <- z - (P' - I)^-1 (P(z) - z)``."""
+    for _ in range(NEWTON_STEPS):
+        enc = enclose_map(scene, z[0], z[1], periods=periods, phase=phase, prec=prec,
+                          max_prec=prec)
+        if not enc.proved:
+            return z, enc
+        M = _mid(_mat_sub_identity(enc.jacobian))
+        if (M[0][0] * M[1][1] - M[0][1] * M[1][0]).is_zero():
+            return z, enc
+        step = _matvec(_inverse(M), [enc.phi[0].mid() - z[0], enc.phi[1].mid() - z[1]])
+        new = [(z[0] - step[0]).mid(), (z[1] - step[1]).mid()]
+        if new == z:
+            return z, enc
+        z = new
+    return z, enc
+
+
+def _auto_phase(scene, x, v, periods, prec):
+    """The section in the middle of the longest quiet stretch of the orbit (a multiple of
+    ``T/64``), and the state there: away from every event, so that a box has one itinerary."""
+    dps = int(prec / 3.33) + 12
+    x, v = to_mpf(from_number(x).mid()), to_mpf(from_number(v).mid())
+    with mpmath.workdps(dps):
+        T = 2 * mpmath.pi / scene.mpf("omega")
+        x = min(max(x, scene.mpf("l")), scene.mpf("r"))      # a state on a wall, rounded out
+        log = reference.trajectory(scene, x, v, periods * T, dps=dps)
+        times = [mpmath.mpf(0)] + [e.t for e in log] + [periods * T]
+        gap, mid = max((b - a, (a + b) / 2) for a, b in zip(times, times[1:]))
+        phase = Fraction(int(mpmath.floor(64 * (mid / T))) % 64, 64)
+        if phase == 0:
+            return 0, x, v
+        state = reference.trajectory(scene, x, v, T * phase.numerator / phase.denominator,
+                                     dps=dps)
+        return phase, from_mpf(state.x_end), from_mpf(state.v_end)
+
+
+def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
+                   prec=DEFAULT_PREC) -> OrbitProof:
+    """Prove a fixed point of ``Phi^periods`` near ``(x, v)`` (numbers as in ``enclose_map``).
+
+    ``phase`` (rational in ``[0, 1)``) takes the section ``t = phase T`` instead of ``t = 0``
+    (an orbit with an impact or a stop at ``t = 0`` has no box there with one itinerary; the
+    orbit is the same, the fixed point is its state at that phase); ``None`` (default) picks
+    it in the longest stretch between events (``(x, v)`` is then the state at ``t = 0``).  ``radius``: the
+    half-width of the box (default ``2^(-prec/3)``: wide enough to hold the fixed point after
+    Newton, narrow enough that the wrapping of a long itinerary stays small).
+    """
+    check_count("periods", periods, 1)
+    start = time.perf_counter()
+    with workprec(prec):
+        if phase is None:
+            phase, x, v = _auto_phase(scene, x, v, periods, prec)
+        z, enc = _newton(scene, [from_number(x).mid(), from_number(v).mid()], periods, phase, prec)
+        r = arb(2) ** (-(prec // 3)) if radius is None else from_number(radius)
+        proof = _krawczyk(scene, z, r, periods, phase, prec, enc)
+        proof.phase = phase
+        proof.seconds = time.perf_counter() - start
+        return proof
+
+
+def _krawczyk(scene, z, r, periods, phase, prec, enc_mid):
+    fail = OrbitProof(False, periods, prec=prec, radius=float(r))
+    if not enc_mid.proved:
+        fail.reason = f"Phi^{periods} at the centre is not proved: {enc_mid.reason}"
+        return fail
+    box = enclose_map(scene, z[0], z[1], periods=periods, phase=phase, x_radius=r, v_radius=r,
+                      prec=prec, max_prec=prec)
+    if not box.proved:
+        fail.reason = f"the itinerary is not proved constant on the box of radius {float(r):.1e}: {box.reason}"
+        return fail
+    M = _mid(_mat_sub_identity(enc_mid.jacobian))
+    det_m = M[0][0] * M[1][1] - M[0][1] * M[1][0]
+    if abs(det_m) < arb(2) ** (-prec // 2):
+        fail.reason = ("det(P' - I) vanishes at the centre: the fixed point is not isolated "
+                       "(a family of fixed points), which no Krawczyk box can single out")
+        return fail
+    C = _mid(_inverse(M))
+    residual = [enc_mid.phi[0] - z[0], enc_mid.phi[1] - z[1]]
+    JZ = _mat_sub_identity(box.jacobian)
+    CJ = [[sum(C[i][k] * JZ[k][j] for k in range(2)) for j in range(2)] for i in range(2)]
+    B = [[(1 if i == j else 0) - CJ[i][j] for j in range(2)] for i in range(2)]
+    dz = [arb(0, r), arb(0, r)]
+    head = _matvec(C, residual)
+    tail = _matvec(B, dz)
+    K = [z[i] - head[i] + tail[i] for i in range(2)]
+    Z = [arb(z[i], r) for i in range(2)]
+    if not all(Z[i].contains_interior(K[i]) for i in range(2)):
+        fail.reason = (f"K(Z) is not inside Z (radius {float(r):.1e}): |K - z| = "
+                       f"{[float(abs(K[i] - z[i]).upper()) for i in range(2)]}")
+        return fail
+    tight = enclose_map(scene, K[0].mid(), K[1].mid(), periods=periods, phase=phase,
+                        x_radius=K[0].rad(), v_radius=K[1].rad(), prec=prec, max_prec=prec)
+    return _multipliers(scene, K, periods, prec, r, enc_mid, tight if tight.proved else box)
+
+
+def _multipliers(scene, K, periods, prec, r, enc_mid, enc):
+    J = enc.jacobian
+    tr = J[0][0] + J[1][1]
+    det = J[0][0] * J[1][1] - J[0][1] * J[1][0]
+    kind, stability, mults = classify(scene, tr, det, [e.kind for e in enc.events])
+    return OrbitProof(True, periods, point=tuple(K), radius=float(r), multipliers=mults,
+                      trace=tr, det=det, kind=kind, stability=stability,
+                      itinerary=[e.kind for e in enc_mid.events], prec=prec)
+
+
+def classify(scene, tr, det, kinds):
+    """``(kind, stability, multipliers)`` from enclosures of ``tr`` and ``det`` of ``P'``.
+
+    ``det P' = 1`` exactly when the orbit has only flights and elastic impacts (no turn,
+    stop or contact) and no damping: every such Table 1 factor has determinant 1 (flight
+    ``[[1, h], [0, 1]]``, reflection ``[[-1, 0], [*, -1]]``) -- a theorem, used as such.
+    """
+    conservative = (all(k == "impact" for k in kinds) and not scene.has("restitution")
+                    and not scene.has("damping"))
+    if conservative:
+        det = arb(1)
+    disc = tr * tr - 4 * det
+    if disc > 0:
+        root = disc.sqrt()
+        l1, l2 = (tr + root) / 2, (tr - root) / 2
+        big = [abs(l) > 1 for l in (l1, l2)]
+        small = [abs(l) < 1 for l in (l1, l2)]
+        if (big[0] and small[1]) or (big[1] and small[0]):
+            return "saddle", "unstable (hyperbolic saddle: proved)", [l1, l2]
+        if all(small):
+            return "attracting node", "asymptotically stable (hyperbolic: proved)", [l1, l2]
+        if all(big):
+            return "repelling node", "unstable (hyperbolic: proved)", [l1, l2]
+        return "real multipliers", "type not decided by the enclosures", [l1, l2]
+    if disc < 0:
+        re, im = tr / 2, (-disc).sqrt() / 2
+        if conservative:
+            return ("elliptic", "linearly stable: non-real multipliers on the unit circle "
+                    "(proved, det = 1 exactly); nonlinear stability not proved (KAM)", [(re, im)])
+        if det < 1:
+            return "attracting focus", "asymptotically stable (|lambda|^2 = det < 1: proved)", [(re, im)]
+        if det > 1:
+            return "repelling focus", "unstable (|lambda|^2 = det > 1: proved)", [(re, im)]
+        return "complex multipliers", "modulus not decided by the enclosures", [(re, im)]
+    return "undecided", "tr^2 - 4 det encloses 0: real or complex not decided", []
