@@ -8,7 +8,8 @@ Commands (each has its own ``--help``):
 * ``figures`` -- redraw the paper's figures, ``cross_check.paper.figures``;
 * ``score``   -- score an integrator against the golden data, ``cross_check.score``;
 * ``sensitivity`` -- the suite's checks on a catalogue of faulty integrators, ``cross_check.sensitivity``;
-* ``atlas``   -- the claims over parameter space on Dask, ``cross_check.atlas``.
+* ``atlas``   -- the claims over parameter space on Dask, ``cross_check.atlas``;
+* ``prove``   -- computer-assisted proofs: the golden data and the paper's orbits, ``cross_check.proofs``.
 
 Bad arguments give one line on stderr and exit status 2 (argparse's convention).
 """
@@ -25,6 +26,7 @@ COMMANDS = {
     "score": ("cross_check.score", "score any integrator (MODULE:NAME) against the golden data"),
     "atlas": ("cross_check.atlas", "where each claim holds: the claims over (f/F, w^2 R/F), on Dask"),
     "sensitivity": ("cross_check.sensitivity", "which check catches which fault: a catalogue of faulty integrators"),
+    "prove": ("cross_check.proofs", "computer-assisted proofs: golden data enclosures, the paper's periodic orbits"),
 }
 
 USAGE = "usage: python -m cross_check {" + ",".join(COMMANDS) + "} [options]"

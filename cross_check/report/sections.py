@@ -187,7 +187,34 @@ def claims_section(quick: bool, progress, claims=None) -> list[str]:
         return " ".join(str("" if d.get(k) is None else d[k]).split())[:160].replace("|", "/")
 
     out = ["| " + " | ".join(keys) + " |", "|" + "---|" * len(keys)]
-    return out + ["| " + " | ".join(cell(d, k) for k in keys) + " |" for d in rows]
+    out += ["| " + " | ".join(cell(d, k) for k in keys) + " |" for d in rows]
+    return out + proofs_table(rows)
+
+
+def _multipliers_text(mults) -> str:
+    def one(m):
+        if isinstance(m, dict):
+            return f"{m['re'][0][:10]} +- {m['im'][0][:10]} i (+-{max(m['re'][1], m['im'][1]):.0e})"
+        return f"{m[0][:10]} (+-{m[1]:.0e})"
+    return "; ".join(one(m) for m in mults)
+
+
+def proofs_table(rows) -> list[str]:
+    """The Krawczyk proofs of the orbits the claims rest on (rows' ``proved``)."""
+    proofs = [(d["id"], p) for d in rows for p in d.get("proved", [])]
+    if not proofs:
+        return []
+    out = ["", "Orbits the verdicts rest on, proved (`reference.enclosure.prove_periodic`: a unique "
+           "fixed point of Phi^k in a box of the given radius, multipliers enclosed; "
+           "`python -m cross_check prove --orbits`):", "",
+           "| claim | orbit | k | proved | type | box radius | multipliers (enclosed) |", "|---|---|---|---|---|---|---|"]
+    for cid, p in proofs:
+        if p["proved"]:
+            out.append(f"| {cid} | {p['orbit']} | {p['periods']} | yes | {p['kind']} | {p['radius']:.1e} | "
+                       f"{_multipliers_text(p['multipliers'])} |")
+        else:
+            out.append(f"| {cid} | {p['orbit']} | {p['periods']} | no | {p['reason'][:120]} | | |")
+    return out
 
 
 def machine_section(n_sample: int, quick: bool) -> list[str]:

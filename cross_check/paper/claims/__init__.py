@@ -36,7 +36,12 @@ if set(ORDER) != set(REGISTRY):
 #: every claim by id, in the table's order
 CLAIMS: dict[str, Claim] = {cid: REGISTRY[cid] for cid in ORDER}
 
-__all__ = ["CLAIMS", "Claim", "Outcome", "run_claims", "main"]
+#: the claims whose verdict rests on periodic orbits: their rows carry ``proved``, one Krawczyk
+#: proof per orbit (``base.prove``; ``python -m cross_check prove --orbits`` runs just these)
+ORBIT_CLAIMS = ("symmetric-solutions", "eigenvalues-fig7", "focus-and-period5", "island-A",
+                "fig1b-centre", "subharmonic-islands", "fig3-attractor")
+
+__all__ = ["CLAIMS", "ORBIT_CLAIMS", "Claim", "Outcome", "run_claims", "main"]
 
 
 def run_claims(quick=False, ids=None, progress=None) -> list[dict]:

@@ -7,8 +7,10 @@ A ``Claim`` is one numerically checkable statement of the paper: its ``id``, the
 ``python -m cross_check claims --json``).  Claims register themselves with ``@claim(...)``.
 
 Shared tools: ``fl`` (JSON-friendly floats), ``itinerary`` (event counts of the reference over
-whole periods), ``fast_points`` (``dynamics.periodic.find_periodic_points``) and ``refined``
-(that point polished by ``dynamics.periodic.newton`` on the reference at ``DPS`` digits).
+whole periods), ``fast_points`` (``dynamics.periodic.find_periodic_points``), ``refined``
+(that point polished by ``dynamics.periodic.newton`` on the reference at ``DPS`` digits) and
+``prove`` (a computer-assisted proof of a periodic orbit, ``reference.enclosure``: a claim
+whose verdict rests on an orbit lists its proofs in ``Outcome.proved``, the row's ``proved``).
 """
 from __future__ import annotations
 
@@ -21,6 +23,8 @@ import numpy as np
 
 import reference
 from cross_check.dynamics import periodic
+from reference.enclosure import prove_periodic
+from reference.enclosure.balls import workprec
 
 DPS = 50
 #: event counts of a periodic orbit are taken over [SHIFT T, (SHIFT + 1) T] (no event at the window ends)
@@ -36,6 +40,7 @@ class Outcome:
     numbers: dict
     corrected: str | None = None
     parameters: dict | None = None
+    proved: list | None = None
 
 
 @dataclass(frozen=True)
@@ -58,8 +63,11 @@ class Claim:
             raise ValueError(f"verdict must be one of {'|'.join(VERDICTS)}, got {out.verdict!r}")
         if (out.verdict == "erratum") != (corrected is not None):
             raise ValueError(f"claim {self.id}: 'corrected' is required exactly for an erratum")
-        return {"id": self.id, "statement": self.statement, "verdict": out.verdict, "corrected": corrected,
-                "parameters": out.parameters or self.parameters, "numbers": out.numbers, "note": self.note}
+        row = {"id": self.id, "statement": self.statement, "verdict": out.verdict, "corrected": corrected,
+               "parameters": out.parameters or self.parameters, "numbers": out.numbers, "note": self.note}
+        if out.proved is not None:
+            row["proved"] = out.proved
+        return row
 
 
 #: every registered claim by id (registration order; ``cross_check.paper.claims`` orders the table)
@@ -150,6 +158,31 @@ def refined(scene, p, dps=DPS):
     out["itinerary"] = itinerary(scene, x, v, periods=p.period)
     out["kind"], out["stability"] = p.kind, p.stability
     return out
+
+
+def _ball(b, digits=20):
+    return [b.mid().str(digits, radius=False), float(b.rad().upper())]
+
+
+def prove(label, scene, x, v, k=1) -> dict:
+    """A Krawczyk proof of the period-``k`` orbit through ``(x, v)`` at ``t = 0`` (a point the
+    claim found; ``reference.enclosure.prove_periodic`` polishes it and picks a section away
+    from the orbit's events).  JSON-ready: ``orbit``, ``periods``, ``proved`` and, if proved,
+    the box ``radius``, the fixed point's balls ``point`` at ``t = phase T``, the multipliers
+    (``[mid, radius]``, or ``{"re", "im"}`` for a complex pair), ``kind``, ``stability`` and
+    the ``itinerary``; else ``reason``."""
+    p = prove_periodic(scene, x, v, periods=k)
+    rec = {"orbit": label, "periods": k, "proved": p.proved, "seconds": round(p.seconds, 2)}
+    if not p.proved:
+        rec["reason"] = p.reason
+        return rec
+    with workprec(p.prec):
+        mults = [{"re": _ball(m[0]), "im": _ball(m[1])} if isinstance(m, tuple) else _ball(m)
+                 for m in p.multipliers]
+        rec.update(radius=p.radius, phase=str(p.phase), point=[_ball(b, 30) for b in p.point],
+                   multipliers=mults, kind=p.kind, stability=p.stability,
+                   itinerary=dict(Counter(p.itinerary)))
+    return rec
 
 
 def cell_grid(scene, n, v_range):

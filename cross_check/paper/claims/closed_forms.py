@@ -10,7 +10,7 @@ import mpmath
 import reference
 from reference import paper as P
 from reference.scene import Scene
-from cross_check.paper.claims.base import DPS, Outcome, claim, fl, itinerary, period, residual
+from cross_check.paper.claims.base import DPS, Outcome, claim, fl, itinerary, period, prove, residual
 from cross_check.scenes import resonance, two_pi, wide, xpot
 
 
@@ -24,12 +24,13 @@ from cross_check.scenes import resonance, two_pi, wide, xpot
        note="corrected orbits are fixed points of the reference map to ~1e-45 with exactly 2 impacts "
             "and no zero velocity; printed x_2 is right only when l = -r (Fig. many:2pi)")
 def symmetric_solutions(quick):
-    out = {}
+    out, proofs = {}, []
     with mpmath.workdps(DPS):
         for name, sc in (("wide_f0.3", wide("0.3")), ("2pi_f0.05", two_pi("0.05"))):
             for b in (1, 2):
                 sol = P.symmetric_solution(sc, b)
                 x0, v0 = sol.state0()
+                proofs.append(prove(f"{name} x{b}", sc, x0, v0))
                 out[f"{name}_x{b}_fixed_point_residual"] = residual(sc, x0, v0)
                 out[f"{name}_x{b}_itinerary"] = itinerary(sc, x0, v0)
                 out[f"{name}_x{b}_printed_minus_true_at_0"] = fl(P.printed_nonstick(sc, b, 0) - x0)
@@ -38,7 +39,7 @@ def symmetric_solutions(quick):
         eps = mpmath.mpf(10) ** -40
         out["wide_f0.3_printed_x2_after_impact"] = fl(P.printed_nonstick(sc, 2, k["tau"] + eps))
         out["wide_f0.3_r"] = 20.0
-    return Outcome("erratum", out)
+    return Outcome("erratum", out, proved=proofs)
 
 
 @claim("existence-condition", "necessary condition for x_{1,2}: f/F <= 2/pi",

@@ -12,8 +12,8 @@ import mpmath
 import numpy as np
 
 from reference import paper as P
-from cross_check.paper.claims.base import (SHIFT, Outcome, claim, fast_points, fl, itinerary, pick, ref_newton,
-                                           refined)
+from cross_check.paper.claims.base import (SHIFT, Outcome, claim, fast_points, fl, itinerary, pick, prove,
+                                           ref_newton, refined)
 from cross_check.scenes import narrow, two_pi, wide
 
 
@@ -34,13 +34,15 @@ def _continuation(make_scene, fs, x, v, k=1):
 def focus_period5(quick):
     sc = narrow("0.005")
     box = dict(x_range=(0.4, 0.6), v_range=(-0.1, 0.1), grid=(5, 5)) if quick else dict(v_range=(-1.5, 1.5), grid=(24, 24))
-    out = {}
+    out, proofs = {}, []
     p1 = [p for p in fast_points(sc, period=1, **box) if p.stability == "stable"]
     p5 = [p for p in fast_points(sc, period=5, **box) if p.stability == "stable"]
     for label, pts in (("fixed", p1), ("period5", p5)):
         out[f"stable_{label}"] = []
         for p in pts:
             ref = refined(sc, p)
+            proofs.append(prove(f"stable {label} ({fl(ref['x']):.5f}, {fl(ref['v']):.5f})", sc,
+                                ref["x"], ref["v"], p.period))
             out[f"stable_{label}"].append({"x": fl(ref["x"]), "v": fl(ref["v"]), "kind": ref["kind"],
                                            "multipliers": [fl(z) for z in ref["multipliers"]],
                                            "abs_multipliers": [fl(abs(z)) for z in ref["multipliers"]],
@@ -56,7 +58,7 @@ def focus_period5(quick):
                                             for f, x, v, J in path]
         out["continuation_end_minus_fast_centre_f0"] = fl(max(abs(path[-1][1] - c0[0].x), abs(path[-1][2] - c0[0].v)))
     ok = bool(foc) and bool(out["stable_period5"]) and all(s["itinerary"].get("turn", 0) > 0 for s in foc + out["stable_period5"])
-    return Outcome("reproduced" if ok else "not reproduced", out)
+    return Outcome("reproduced" if ok else "not reproduced", out, proved=proofs)
 
 
 @functools.lru_cache(maxsize=2)
@@ -100,12 +102,17 @@ def island_a(quick):
         wall = [p for p in fast_points(narrow(0), x_range=(0.7, 0.8), v_range=(-1.5, -1.1), grid=(6, 6))
                 if p.kind == "centre" and p.x > 0.7]
         out["f0_wall_centre"] = [[p.x, p.v, p.trace] for p in wall]
+    proofs = [prove(f"island A centre, f = 0.005 ({c['x']:.5f}, {c['v']:.5f})", narrow("0.005"), c["x"], c["v"])
+              for c in a]
+    proofs += [prove(f"island A centre, f = 0, at the wall ({x:.5f}, {v:.5f})", narrow(0), min(x, 0.8), v)
+               for x, v, _ in out.get("f0_wall_centre", [])]
     if two:
-        return Outcome("reproduced", out)
+        return Outcome("reproduced", out, proved=proofs)
     if len(a) == 1:
         return Outcome("erratum", out, corrected=f"{a[0]['impacts']} impacts per period "
-                                                 f"({a[0]['impacts'] // 2} round trips), no turning point")
-    return Outcome("not reproduced", out)
+                                                 f"({a[0]['impacts'] // 2} round trips), no turning point",
+                       proved=proofs)
+    return Outcome("not reproduced", out, proved=proofs)
 
 
 @claim("fig1b-centre",
@@ -117,7 +124,9 @@ def island_a(quick):
 def fig1b_centre(quick):
     centres = [c for c in narrow_centres(quick) if c["f"] == "0"]
     four = [c for c in centres if c.get("impacts") == 4 and c.get("turns") == 2]
-    return Outcome("reproduced" if four else "not reproduced", {"centres": centres, "matching": four})
+    proofs = [prove(f"fig:zoom centre ({c['x']:.5f}, {c['v']:.5f})", narrow(0), c["x"], c["v"]) for c in four]
+    return Outcome("reproduced" if four else "not reproduced", {"centres": centres, "matching": four},
+                   proved=proofs)
 
 
 @claim("fig3-attractor",
@@ -130,7 +139,7 @@ def fig1b_centre(quick):
             "closed forms in reference.paper.no_impact_attractor")
 def fig3_attractor(quick):
     import fast
-    out = {}
+    out, proofs = {}, []
     fs = ("0.3", "0.6") if quick else ("0.1", "0.2", "0.3", "0.4", "0.5", "0.6")
     for f in fs:
         sc = wide(f)
@@ -142,8 +151,9 @@ def fig3_attractor(quick):
         out[f"f{f}"] = {"x": fl(x), "v": fl(v), "v_closed_form": fl(closed["v0"]), "closed_form_kind": closed["kind"],
                         "itinerary": its, "sticking_intervals": its.get("slip", 0), "turns": its.get("turn", 0),
                         "impacts": its.get("impact", 0), "spread_of_final_v_over_starts": float(np.ptp(V[-1]))}
+        proofs.append(prove(f"no-impact attractor, f = {f}", sc, x, v))
     out["stick_threshold_f_over_F"] = fl(P.stick_threshold())
-    return Outcome("erratum", out)
+    return Outcome("erratum", out, proved=proofs)
 
 
 @claim("subharmonic-islands",
@@ -157,13 +167,15 @@ def subharmonic(quick):
     grid = (8, 8) if quick else (30, 40)
     # quick: boxes around the bands where the full search finds the centres (|v| 3.5-4.5, 1-2)
     boxes = ((1, (3.0, 5.0)), (3, (0.5, 2.5))) if quick else ((1, (-6.0, 6.0)), (3, (-3.0, 3.0)))
-    out = {}
+    out, proofs = {}, []
     for f in fs:
         sc = two_pi(f)
         row = {}
         for k, vr in boxes:
             pts = fast_points(sc, period=k, v_range=vr, grid=grid)
             row[f"period{k}_centres"] = [[p.x, p.v, p.trace] for p in pts if p.kind == "centre"]
+            proofs += [prove(f"period-{k} centre, f = {f} ({p.x:.5f}, {p.v:.5f})", sc, p.x, p.v, k)
+                       for p in pts if p.kind == "centre" and k == 3]
             sol = P.symmetric_solution(sc, 1, m=k)
             row[f"period{k}_symmetric_closed_form"] = None if sol is None else {
                 "state0": [fl(a) for a in sol.state0()], "trace": fl(sol.trace()),
@@ -171,4 +183,4 @@ def subharmonic(quick):
         out[f"f{f}"] = row
     out["period3_symmetric_existence_bound_2F_over_3pi"] = fl(P.existence_bound(3))
     ok = bool(out["f0.2"]["period3_centres"]) and not out["f0.3"]["period3_centres"]
-    return Outcome("reproduced" if ok else "not reproduced", out)
+    return Outcome("reproduced" if ok else "not reproduced", out, proved=proofs)

@@ -1,0 +1,117 @@
+"""``python -m cross_check prove``: the computer-assisted proofs, end to end.
+
+* ``--golden``: re-prove every golden input (``reference.enclosure.enclose_map`` on the exact
+  input), check that the stored record (``cross_check/data/golden``, written by
+  ``python -m cross_check golden``) is what the proof gives, and that every written digit of
+  ``Phi`` lies in its ball; one line per scene, then the counts, the widest proved radius and
+  the time.
+* ``--orbits``: the claims whose verdict rests on a periodic orbit
+  (``cross_check.paper.claims``, ``ORBIT_CLAIMS``), each with its orbits proved by the Krawczyk
+  operator (``reference.enclosure.prove_periodic``): box radius, multipliers, type, or the
+  reason a proof fails.
+
+Without either flag both run.  ``--json FILE`` writes what was proved.  Exit status 1 if a
+stored golden record disagrees with its proof or a digit lies outside its ball.
+"""
+from __future__ import annotations
+
+import json
+import sys
+import time
+from decimal import Decimal
+from fractions import Fraction
+
+from cross_check import golden, scenes
+from cross_check.paper import claims
+
+
+def _digits_inside(text, ball) -> bool:
+    """The written decimal ``text``, as the interval its last digit's rounding denotes, meets
+    the ball ``[mid, radius]``."""
+    value = Decimal(text)
+    half_unit = Fraction(10) ** value.as_tuple().exponent / 2
+    return abs(Fraction(value) - Fraction(ball[0])) <= Fraction(ball[1]) + half_unit
+
+
+def prove_golden(names=None, progress=print) -> dict:
+    """Re-prove every golden input of the scenes ``names`` (default: all)."""
+    names = list(scenes.SCENES) if names is None else list(names)
+    totals = {"inputs": 0, "proved": 0, "cases": 0, "cases_proved": 0, "mismatch": [],
+              "outside": [], "widest": 0.0, "unproved": []}
+    start = time.perf_counter()
+    for name in names:
+        sc, data, t = scenes.scene(name), golden.load(name), time.perf_counter()
+        proved_here = 0
+        for case in data["cases"]:
+            all_proved = True
+            for label, inp in case["inputs"].items():
+                exact = case["exact"] if label == "exact" else "float64"
+                as_case = scenes.Case(case["name"], inp["x"], inp["v"], exact, case["how"])
+                record = golden.enclosure(sc, as_case)
+                where = f"{name} / {case['name']} / {label}"
+                totals["inputs"] += 1
+                if record != inp["enclosure"]:
+                    totals["mismatch"].append(where)
+                if not record["proved"]:
+                    all_proved = False
+                    totals["unproved"].append(f"{where}: {record['reason']}")
+                    continue
+                proved_here += 1
+                totals["widest"] = max(totals["widest"], float(record["radius"]))
+                if not all(_digits_inside(d, b) for d, b in zip(inp["phi"], record["phi"])):
+                    totals["outside"].append(where)
+            totals["cases"] += 1
+            totals["cases_proved"] += all_proved
+        totals["proved"] += proved_here
+        progress(f"[{time.perf_counter() - start:6.1f}s] {name:28} {proved_here:3d} proved "
+                 f"({time.perf_counter() - t:.1f}s)")
+    totals["seconds"] = round(time.perf_counter() - start, 1)
+    return totals
+
+
+def prove_orbits(ids=None, quick=False, progress=print) -> list[dict]:
+    """The claims that rest on periodic orbits, run with their proofs (``row["proved"]``)."""
+    ids = list(claims.ORBIT_CLAIMS) if ids is None else list(ids)
+    rows = []
+    for row in claims.run_claims(quick=quick, ids=ids):
+        rows.append(row)
+        for proof in row.get("proved", []):
+            status = "proved" if proof["proved"] else "NOT proved"
+            what = (f"{proof['kind']}, radius {proof['radius']:.1e}, multipliers "
+                    f"{proof['multipliers']}" if proof["proved"] else proof["reason"])
+            progress(f"{row['id']:22} {proof['orbit']:34} {status}: {what}")
+    return rows
+
+
+def main(argv=None) -> int:
+    """``prove [--golden] [--orbits] [--scenes NAME ...] [--json FILE]``."""
+    import argparse
+    ap = argparse.ArgumentParser(prog="python -m cross_check prove", description=__doc__.splitlines()[0],
+                                 epilog="Without --golden or --orbits both run (about a minute on 2 cores).")
+    ap.add_argument("--golden", action="store_true", help="re-prove every golden input and check the stored balls")
+    ap.add_argument("--orbits", action="store_true", help="prove the periodic orbits the paper's claims rest on")
+    ap.add_argument("--scenes", nargs="+", metavar="NAME", choices=list(scenes.SCENES),
+                    help="--golden: only these scenes")
+    ap.add_argument("--json", metavar="FILE", help="write what was proved as JSON")
+    args = ap.parse_args(argv)
+    both = not (args.golden or args.orbits)
+    out, status = {}, 0
+    if args.golden or both:
+        totals = prove_golden(args.scenes, progress=lambda m: print(m, flush=True))
+        print(f"golden: {totals['proved']} of {totals['inputs']} inputs proved, "
+              f"{totals['cases_proved']} of {totals['cases']} cases ({100 * totals['cases_proved'] / max(1, totals['cases']):.1f}%), "
+              f"widest proved relative radius {totals['widest']:.1e}, {totals['seconds']} s")
+        for line in totals["unproved"]:
+            print(f"  not proved: {line}")
+        for key, words in (("mismatch", "stored record differs from its proof"),
+                           ("outside", "a written digit lies outside its ball")):
+            for where in totals[key]:
+                print(f"  ERROR {words}: {where}", file=sys.stderr)
+                status = 1
+        out["golden"] = totals
+    if args.orbits or both:
+        out["orbits"] = prove_orbits(progress=lambda m: print(m, flush=True))
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(out, fh, indent=1, default=str)
+    return status

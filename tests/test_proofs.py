@@ -1,0 +1,70 @@
+"""Computer-assisted proofs end to end (issue 17): the claims' orbits and ``prove``.
+
+The default run proves the orbits of two claims (the caption's saddle, the focus and period-5
+orbit) and re-proves the golden data of one scene through the CLI; ``slow`` proves everything
+(every golden input of every scene, every orbit of the full claims table).
+"""
+import json
+
+import pytest
+
+from cross_check import proofs
+from cross_check.paper import claims as C
+
+
+def _proofs(cid, quick=True):
+    (row,) = C.run_claims(quick=quick, ids=[cid])
+    return row["proved"]
+
+
+def test_the_caption_saddle_is_proved_with_its_multipliers():
+    """eigenvalues-fig7: the paper's 0.3159 and 3.1659 lie in the proved multipliers' 4-decimal
+    rounding, and the point is a saddle."""
+    wide = [p for p in _proofs("eigenvalues-fig7") if p["orbit"].startswith("wide_f0.6")]
+    assert wide and all(p["proved"] and p["kind"] == "saddle" for p in wide)
+    mults = sorted(float(m[0]) for m in wide[0]["multipliers"])
+    assert round(mults[0], 4) == 0.3159 and round(mults[1], 4) == 3.1659
+    assert all(m[1] < 1e-40 for m in wide[0]["multipliers"])
+
+
+def test_the_focus_and_the_period5_orbit_are_proved_attracting():
+    got = _proofs("focus-and-period5")
+    assert {p["periods"] for p in got} == {1, 5}
+    for p in got:
+        assert p["proved"], p.get("reason")
+        assert p["kind"] == "attracting focus" and p["itinerary"].get("turn", 0) > 0
+
+
+def test_a_family_of_fixed_points_is_reported_with_its_reason():
+    got = _proofs("fig3-attractor")
+    assert got and all(not p["proved"] and "not isolated" in p["reason"] for p in got)
+
+
+def test_prove_cli_golden_one_scene(tmp_path, capsys):
+    out = tmp_path / "proofs.json"
+    assert proofs.main(["--golden", "--scenes", "stuck/F<f", "effect:zeno", "--json", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "golden: 20 of 20 inputs proved, 18 of 18 cases" in text
+    data = json.loads(out.read_text())
+    assert not data["golden"]["mismatch"] and not data["golden"]["outside"]
+
+
+def test_prove_cli_help_and_bad_scene(capsys):
+    with pytest.raises(SystemExit) as exc:
+        proofs.main(["--help"])
+    assert exc.value.code == 0 and "--orbits" in capsys.readouterr().out
+    with pytest.raises(SystemExit) as exc:
+        proofs.main(["--golden", "--scenes", "no-such-scene"])
+    assert exc.value.code == 2
+
+
+@pytest.mark.slow
+def test_everything_proves():
+    """All golden inputs (~6 s) and all orbits of the full claims table (~10 s)."""
+    totals = proofs.prove_golden(progress=lambda m: None)
+    assert not totals["mismatch"] and not totals["outside"]
+    assert totals["cases_proved"] >= 0.95 * totals["cases"]
+    rows = proofs.prove_orbits(progress=lambda m: None)
+    listed = [p for r in rows for p in r["proved"]]
+    assert all(p["proved"] or len(p["reason"]) > 20 for p in listed)
+    assert sum(p["proved"] for p in listed) >= 15
