@@ -3,7 +3,8 @@
 ``enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0)`` re-proves the point
 integrator's itinerary for every start state of a box and returns balls that provably
 contain ``Phi^k`` and ``(Phi^k)'`` (``reference.enclosure.maps``); ``prove_periodic`` turns
-that into a computer-assisted proof of a periodic orbit (``reference.enclosure.orbits``).
+that into a computer-assisted proof of a periodic orbit, ``prove_segment`` of a segment of
+fixed points (the no-impact orbits, never isolated) (``reference.enclosure.orbits``).
 
 What is proved, and what is not
 -------------------------------
@@ -15,7 +16,9 @@ What is proved, and what is not
 * Not proved: anything about position-dependent forcing (no closed-form flight; it would
   need a validated ODE solver), a start on a grazing or a tangency (no box fixes the
   itinerary there), and the *nonlinear* stability of a neutral centre (elliptic multipliers
-  are proved; stability needs KAM-type arguments).
+  are proved; stability needs KAM-type arguments).  A chatter accumulation time is enclosed
+  coarsely (the walk follows bounces in absolute coordinates while it can, then bounds the
+  tail); the map does not depend on it.
 
 Modules: ``balls`` (precision, conversions, the scene as balls), ``motion`` (flights and
 rests on balls, event functions), ``certify`` (exclusion and Krawczyk roots), ``walk`` (the
@@ -24,6 +27,6 @@ itinerary, event by event, chatter tails), ``maps`` (``enclose_map``), ``orbits`
 """
 from reference.enclosure.certify import Unproved
 from reference.enclosure.maps import MapEnclosure, enclose_map
-from reference.enclosure.orbits import OrbitProof, prove_periodic
+from reference.enclosure.orbits import OrbitProof, prove_periodic, prove_segment
 
-__all__ = ["enclose_map", "MapEnclosure", "prove_periodic", "OrbitProof", "Unproved"]
+__all__ = ["enclose_map", "MapEnclosure", "prove_periodic", "prove_segment", "OrbitProof", "Unproved"]

@@ -73,14 +73,16 @@ def _point_log(scene, x, v, phase, periods, prec, max_events):
     with mpmath.workdps(dps):
         model = _point_model(scene, mpmath.mp.prec)
         t0 = model.T * phase.numerator / phase.denominator
-        log = integrate(model, t0, to_mpf(x), to_mpf(v), t0 + periods * model.T, max_events)
+        duration = model.T * periods.numerator / periods.denominator
+        log = integrate(model, t0, to_mpf(x), to_mpf(v), t0 + duration, max_events)
         return log, (model.l, model.r)
 
 
 def _check(scene, periods, prec, max_prec, max_events):
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a reference.Scene, got {type(scene).__name__}")
-    check_count("periods", periods, 1)
+    if not (isinstance(periods, Fraction) and periods > 0):
+        check_count("periods", periods, 1)
     check_count("prec", prec, 64)
     check_count("max_prec", max_prec, prec)
     check_count("max_events", max_events, 1)
@@ -103,7 +105,8 @@ def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, phase=0, prec
     ``v +- v_radius`` (numbers as in ``reference.stroboscopic_map``: int, float, decimal str,
     Fraction, mpf, or an arb ball for ``x``, ``v``).  ``phase`` (a rational in ``[0, 1)``, as
     int, Fraction or decimal str) moves the section: the map runs from ``t0 = phase T`` to
-    ``t0 + periods T`` (default 0: the paper's ``Phi``).
+    ``t0 + periods T`` (default 0: the paper's ``Phi``); ``periods`` may be a positive
+    ``Fraction`` for a map over part of a period (the half-period map of a symmetry proof).
 
     Returns a :class:`MapEnclosure`; ``proved`` False with the reason where a certificate fails
     at every precision up to ``max_prec`` bits.  With ``rel_radius``, a proof whose ``Phi``
@@ -112,7 +115,7 @@ def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, phase=0, prec
     integrator.
     """
     _check(scene, periods, prec, max_prec, max_events)
-    phase = _phase(phase)
+    phase, periods = _phase(phase), Fraction(periods)
     last, best = None, None
     while prec <= max_prec:
         with workprec(prec):
@@ -143,7 +146,7 @@ def _prove(scene, X, V, phase, periods, prec, max_events):
     model = _ball_model(scene, prec)
     points, walls = _point_log(scene, X.mid(), V.mid(), phase, periods, prec, max_events)
     t0 = model.T * from_fraction(phase)
-    t_end = t0 + periods * model.T
+    t_end = t0 + from_fraction(periods) * model.T
     walk = Walk(model, points, t_end, walls)
     log = walk.run(t0, X, V)
     J = product_of_table1(model, log)

@@ -33,6 +33,7 @@ from flint import arb
 import reference
 from reference.api import check_count
 from reference.enclosure.balls import DEFAULT_PREC, from_mpf, from_number, to_mpf, workprec
+from reference.enclosure.balls import span as span_ball
 from reference.enclosure.maps import enclose_map
 
 #: Newton steps on the midpoints before the proof (each one enclosure of ``P`` at a point).
@@ -224,3 +225,62 @@ def classify(scene, tr, det, kinds):
             return "repelling focus", "unstable (|lambda|^2 = det > 1: proved)", [(re, im)]
         return "complex multipliers", "modulus not decided by the enclosures", [(re, im)]
     return "undecided", "tr^2 - 4 det encloses 0: real or complex not decided", []
+
+
+def prove_segment(scene, x_lo, x_hi, v, *, prec=DEFAULT_PREC) -> OrbitProof:
+    """Prove a segment of fixed points ``[x_lo, x_hi] x {v*}`` of ``Phi``: the no-impact orbits.
+
+    Away from the walls the motion is translation-invariant, so the fixed points of ``Phi`` are
+    never isolated and :func:`prove_periodic` cannot single one out.  Instead, with ``H`` the
+    half-period map and ``X = [x_lo, x_hi]``:
+
+    1. a 1D Krawczyk step proves a unique ``v*`` in a ball ``V`` with ``H_v(x0, v*) = -v*`` for
+       every ``x0`` in ``X`` (``H_v`` does not depend on ``x0``; no wall is reached from ``X x V``);
+    2. the equation is odd under ``x -> -x(t + T/2) + c`` (friction odd, forcing anti-periodic),
+       so by forward uniqueness that solution satisfies ``x(t + T/2) = x(0) + x(T/2) - x(t)``,
+       hence ``Phi(x0, v*) = (x0, v*)`` for every ``x0`` in ``X``;
+    3. a second 1D Krawczyk step on ``Phi_v(x0, v) - v`` proves ``v*`` the only ``v`` in ``V``
+       with ``Phi_v = v``: the fixed points of ``Phi`` in ``X x V`` are exactly the segment.
+
+    The multipliers are ``1`` (along the segment, exactly) and ``dPhi_v/dv`` (enclosed).
+    """
+    start = time.perf_counter()
+    with workprec(prec):
+        X = span_ball(from_number(x_lo), from_number(x_hi))
+        v = from_number(v).mid()
+        half = Fraction(1, 2)
+        fail = OrbitProof(False, 1, prec=prec)
+        for _ in range(NEWTON_STEPS):          # polish v on H_v(v) + v = 0
+            enc = enclose_map(scene, X.mid(), v, periods=half, prec=prec, max_prec=prec)
+            if not enc.proved:
+                fail.reason = f"the half-period map is not proved: {enc.reason}"
+                return fail
+            step = ((enc.phi[1] + v) / (enc.jacobian[1][1] + 1)).mid()
+            if step.is_zero() or abs(step) < abs(v) * arb(2) ** (-prec + 8):
+                break
+            v = (v - step).mid()
+        r = arb(2) ** (-(prec // 3))
+        V = arb(v, r)
+        for periods, sign in ((half, 1), (1, -1)):      # H_v + v = 0, then Phi_v - v = 0
+            box = enclose_map(scene, X.mid(), v, periods=periods, x_radius=X.rad(), v_radius=r,
+                              prec=prec, max_prec=prec)
+            centre = enclose_map(scene, X.mid(), v, periods=periods, x_radius=X.rad(),
+                                 prec=prec, max_prec=prec)
+            if not (box.proved and centre.proved) or any(e.kind == "impact" for e in box.events):
+                fail.reason = (f"the {'half-' if periods == half else ''}period map over the "
+                               f"segment box is not proved without impacts: {box.reason}")
+                return fail
+            slope = box.jacobian[1][1] + sign
+            Y = 1 / (centre.jacobian[1][1] + sign).mid()
+            K = v - Y * (centre.phi[1] + sign * v) + (1 - Y * slope) * (V - v)
+            if not V.contains_interior(K):
+                fail.reason = f"1D Krawczyk for v* failed ({'H_v + v' if sign > 0 else 'Phi_v - v'})"
+                return fail
+        mult = box.jacobian[1][1]
+        kind = "segment of fixed points (no impact)"
+        stability = ("normally attracting: multipliers 1 (along the segment) and "
+                     f"{'< 1' if abs(mult) < 1 else 'not < 1'} in |.| (proved)")
+        return OrbitProof(True, 1, point=(X, K), radius=float(r), multipliers=[arb(1), mult],
+                          trace=1 + mult, det=mult, kind=kind, stability=stability,
+                          itinerary=[e.kind for e in box.events], prec=prec,
+                          seconds=time.perf_counter() - start)
