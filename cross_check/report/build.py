@@ -148,6 +148,7 @@ def _markdown(parts: dict, errors: list, plan: Plan, quick: bool) -> list[str]:
               "event handling (`cross_check/agreement/baseline.py`): restart at each event, stick and wall "
               "contact by threshold events, chatter cut-off below 100 atol.", ""] + parts["scipy"] + [""]
     lines += ["## The paper's claims", ""] + parts["claims"]
+    lines += ["", "## Proofs of the golden data", ""] + sections.golden_proofs_section()
     lines += ["", "## Where the claims hold: the atlas", ""] + parts["atlas"]
     return lines + ["", "## Machine, versions, seeds", ""] + sections.machine_section(plan.n_sample, quick)
 
