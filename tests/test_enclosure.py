@@ -124,6 +124,9 @@ def test_unprovable_boxes_say_why(x, v, x_radius, v_radius, words):
     ({"prec": 10}, ValueError),
     ({"x_radius": "-1e-3"}, ValueError),
     ({"max_prec": 100}, ValueError),
+    ({"phase": 1}, ValueError),
+    ({"phase": 0.5}, ValueError),
+    ({"x_radius": float("nan")}, ValueError),
 ])
 def test_bad_arguments_raise(kwargs, error):
     with pytest.raises(error):
@@ -135,8 +138,10 @@ def test_position_forcing_and_wrong_types_are_refused():
         enclose_map(scenes.scene("fig:xpotno"), "0.3", "0.2")
     with pytest.raises(TypeError, match="scene"):
         enclose_map("fig:narrow", "0.3", "0.2")
-    with pytest.raises(TypeError):
+    with pytest.raises(TypeError, match="x and x_radius"):
         enclose_map(scenes.scene("fig:narrow"), [0.3], "0.2")
+    with pytest.raises(ValueError, match="v and v_radius"):
+        enclose_map(scenes.scene("fig:narrow"), "0.3", float("inf"))
 
 
 def test_precision_does_not_leak():

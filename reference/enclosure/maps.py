@@ -92,8 +92,12 @@ def _check(scene, periods, prec, max_prec, max_events):
 
 
 def _box(value, radius, name):
-    centre = from_number(value)
-    radius = from_number(radius)
+    try:
+        centre, radius = from_number(value), from_number(radius)
+    except (TypeError, ValueError, OverflowError) as exc:
+        kind = TypeError if isinstance(exc, TypeError) else ValueError
+        raise kind(f"{name} and {name}_radius must be finite real numbers (int, float, "
+                        f"decimal str, Fraction, mpf or arb), got {value!r} and {radius!r}") from None
     if not (radius >= 0):
         raise ValueError(f"{name}_radius must be >= 0, got {radius}")
     return centre if radius.is_zero() else centre + arb(0, radius.upper())
