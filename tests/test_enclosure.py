@@ -156,7 +156,7 @@ def test_krawczyk_encloses_a_closed_form_root_and_exclusion_refuses_a_root():
     sc = scenes.scene("fig:many:wide/f=0.3")
     with workprec(320):
         m = BallModel(sc)
-        rest = motion.Rest(m, arb(0), arb(10))
+        rest = motion.Rest(m, arb(10))
         up = motion.slip(m, 1)          # f - A: positive while A < f
         # A = cos t first rises through f at t = 2 pi - acos(f)
         with mpmath.workdps(100):

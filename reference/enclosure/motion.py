@@ -52,10 +52,14 @@ class EventFunction:
         return self.const + value if k == 0 else value
 
 
+def wall_name(side: int) -> str:
+    """The name of the distance function of the wall ``side`` (+1 r, -1 l)."""
+    return "wall r" if side > 0 else "wall l"
+
+
 def distance(model, side: int, order: int = 0) -> EventFunction:
     """``side (wall - x)``: zero when the particle reaches the wall ``side``."""
-    return EventFunction(f"wall {'r' if side > 0 else 'l'}", 0, -side, side * model.wall(side),
-                         order)
+    return EventFunction(wall_name(side), 0, -side, side * model.wall(side), order)
 
 
 def velocity(s: int, order: int = 0) -> EventFunction:
@@ -75,8 +79,6 @@ def release(model, side: int) -> EventFunction:
 
 class Flight:
     """Closed-form flight (base or damped) from the balls ``t0, x0, v0``, sign ``s``."""
-
-    start = 0
 
     def __init__(self, model, t0, x0, v0, s: int):
         self.m, self.t0, self.x0, self.v0, self.s = model, t0, x0, v0, s
@@ -124,8 +126,8 @@ class Flight:
 class Rest:
     """Sticking at ``x`` or contact at a wall: nothing moves; the stack is the force's."""
 
-    def __init__(self, model, t0, x):
-        self.m, self.start, self.x = model, t0, x
+    def __init__(self, model, x):
+        self.m, self.x = model, x
 
     def stack(self, t):
         """``[A, A', A'', A''']`` at absolute time ``t`` (a ball)."""

@@ -117,7 +117,7 @@ class Walk:
         if at and at[0] == sign:
             self.take("impact")
             return self.impact(sign)
-        self.to_flight(sign, {f"wall {'r' if at[0] > 0 else 'l'}": 1} if at else {})
+        self.to_flight(sign, {motion.wall_name(at[0]): 1} if at else {})
 
     def _start_at_rest(self, side):
         m = self.m
@@ -130,7 +130,7 @@ class Walk:
                 self.emit("contact", arb(0))
                 self.mode, self.side = "contact", side
                 return
-            order = {"velocity": 1} if m.friction else {f"wall {'r' if side > 0 else 'l'}": 2}
+            order = {"velocity": 1} if m.friction else {motion.wall_name(side): 2}
             return self.to_flight(-side, order)
         if held:
             self.take("stick")
@@ -173,7 +173,7 @@ class Walk:
             return True
         side = self._wall_side(ev.x)
         if ev.kind == "impact" and side:
-            fired = next(fn for fn in fns if fn.name == f"wall {'r' if side > 0 else 'l'}")
+            fired = next(fn for fn in fns if fn.name == motion.wall_name(side))
         elif ev.kind in ("turn", "stick") and not side and m.friction:
             fired = fns[1]
         else:
@@ -218,7 +218,7 @@ class Walk:
                 if tail < CHATTER_CLOSE * m.T or ahead == self.i:
                     return self.close_chatter(side, ahead, tail)
                 self.fallback = (self.t, self.v, len(self.log), side, ahead, tail)
-        self.to_flight(-side, {} if m.friction else {f"wall {'r' if side > 0 else 'l'}": 1})
+        self.to_flight(-side, {} if m.friction else {motion.wall_name(side): 1})
         return False
 
     def velocity_zero(self, kind):
@@ -270,7 +270,7 @@ class Walk:
     # -- rests ----------------------------------------------------------------------------
     def rest(self):
         m = self.m
-        rest = motion.Rest(m, self.t, self.x)
+        rest = motion.Rest(m, self.x)
         stuck_for_good = m.F <= m.f
         if self.mode == "stick":
             fns = [] if stuck_for_good else [motion.slip(m, 1), motion.slip(m, -1)]
@@ -307,7 +307,7 @@ class Walk:
         if m.friction:
             self.to_flight(sigma, {"velocity": 2})
         else:
-            self.to_flight(0, {f"wall {'r' if self.side > 0 else 'l'}": 3})
+            self.to_flight(0, {motion.wall_name(self.side): 3})
         return False
 
     def restore_fallback(self):
