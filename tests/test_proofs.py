@@ -74,5 +74,8 @@ def test_everything_proves():
     assert totals["cases_proved"] >= 0.95 * totals["cases"]
     rows = proofs.prove_orbits(progress=lambda m: None)
     listed = [p for r in rows for p in r["proved"]]
-    assert all(p["proved"] for p in listed), [p for p in listed if not p["proved"]]
-    assert len(listed) >= 21
+    unproved = [p for p in listed if not p["proved"]]
+    # x1, x2 of the narrow scenes: the closed form is no solution there (R w^2 < (pi - 2) F)
+    assert {p["orbit"].split(" x")[0] for p in unproved} == {"fig:narrow", "fig:narrow-with-friction"}
+    assert all("not a solution" in p["reason"] for p in unproved)
+    assert len(listed) - len(unproved) >= 50
