@@ -204,3 +204,41 @@ def test_a_family_of_fixed_points_is_refused_with_the_reason():
     sc = scenes.scene("fig:wide:b")
     proof = prove_periodic(sc, "10", "-0.15915494309189533576888376337251436203445964574046", phase=0)
     assert not proof.proved and "not isolated" in proof.reason
+
+
+# --- properties (hypothesis) ------------------------------------------------------------------
+from hypothesis import given, settings  # noqa: E402
+
+from tests.strategies import chattering_orbits, reference_cases  # noqa: E402
+
+
+@settings(max_examples=25)
+@given(reference_cases())
+def test_property_a_proved_ball_contains_the_point_reference(case):
+    """On any scene and exact state the proof either holds -- and then contains the point
+    reference at dps 60, map and Jacobian -- or says why not."""
+    sc, x, v = case
+    enc = enclose_map(sc, x, v, max_prec=640)
+    if not enc.proved:
+        assert len(enc.reason) > 20
+        return
+    xr, vr = reference.stroboscopic_map(sc, x, v, dps=DPS)
+    with workprec(enc.prec):
+        assert _inside(enc.phi[0], xr) and _inside(enc.phi[1], vr), (enc.phi, xr, vr)
+
+
+@settings(max_examples=15)
+@given(chattering_orbits())
+def test_property_chatter_accumulates_inside_its_bound(orbit):
+    """A chatter run from the wall: the proved accumulation time contains the reference's
+    (extrapolated to its digits, golden_reference_chatter_time), and Phi is proved."""
+    sc, x, v = orbit
+    enc = enclose_map(sc, x, v)
+    assert enc.proved, enc.reason
+    log = reference.trajectory(sc, x, v, 2 * mpmath.pi / sc.mpf("omega"), dps=DPS)
+    ball = [e for e in enc.events if e.kind == "chatter"]
+    point = [e for e in log if e.kind == "chatter"]
+    assert len(ball) == len(point) == 1
+    slack = tol("ref_chatter_time_dps50")
+    with workprec(enc.prec):
+        assert _inside(ball[0].t, point[0].t, slack)
