@@ -17,8 +17,8 @@ What is proved, and what is not
   need a validated ODE solver), a start on a grazing or a tangency (no box fixes the
   itinerary there), and the *nonlinear* stability of a neutral centre (elliptic multipliers
   are proved; stability needs KAM-type arguments).  A chatter accumulation time is enclosed
-  coarsely (the walk follows bounces in absolute coordinates while it can, then bounds the
-  tail); the map does not depend on it.
+  to ~1e-7..1e-12 T only (the walk follows bounces in absolute coordinates while it can, then
+  bounds the tail on both sides); the map does not depend on it.
 
 Modules: ``balls`` (precision, conversions, the scene as balls), ``motion`` (flights and
 rests on balls, event functions), ``certify`` (exclusion and Krawczyk roots), ``walk`` (the

@@ -28,24 +28,32 @@ from reference.enclosure.balls import from_mpf, span
 from reference.enclosure.certify import Unproved
 from reference.integrator import Event, EventLog
 
-#: A chatter run is closed as soon as its tail is bounded by this fraction of T (else the
-#: walk follows more bounces, falling back to the last bounded tail if one fails).
+#: A chatter run is closed as soon as its accumulation time is bounded to this fraction of T
+#: (else the walk follows more bounces, falling back to the last bounded tail if one fails).
 CHATTER_CLOSE = arb(2) ** -40
 #: Tries of the chatter window (each doubles it) before the tail is declared unbounded.
 CHATTER_TRIES = 12
 
 
 def chatter_tail(m, t, side, u):
-    """Bound the accumulation of a chatter run; returns ``W``: ``t_inf`` lies in
-    ``[t, t + W]`` for every start in the balls (``t``: last impact, ``u``: speed after it).
+    """Bound the accumulation of a chatter run: returns ``(low, high)`` with ``t_inf`` in
+    ``[t + low, t + high]`` for every start in the balls (``t``: the last impact, ``u``: the
+    speed after it).  No bounce is simulated.
 
-    On a window where the push ``P = side A`` satisfies ``P_min - f - c V > 0``: a bounce of
-    speed ``u`` decelerates at ``>= D = P_min + f`` (its height ``<= u^2 / 2D``), returns at
-    ``R in [P_min - f - c V, P_max - f]`` (``V = u max(1, sqrt(R_max / D))`` bounds ``|v|``), so the next speed is ``<= rho u`` with
-    ``rho = e sqrt(R_max / D)`` and the bounce lasts ``<= K u``, ``K = 1/D + 1/sqrt(D R_min)``.
-    If ``rho < 1`` every later bounce is shorter and the tail is ``<= K u / (1 - rho)``; it is
-    valid if it fits in the window (then the push bounds held on every bounce), and the
-    heights stay below the gap (no other wall).  No bounce is simulated here.
+    On a window where the push ``P = side A`` lies in ``[P_min, P_max]`` with
+    ``R_min = P_min - f - c V > 0`` (``V = u max(1, sqrt(R_max / D))`` bounds ``|v|`` on a
+    bounce): a bounce of speed ``u`` decelerates at a rate in ``[D, D_max] = [P_min + f,
+    P_max + f + c V]``, so it lasts ``u/D_max .. u/D`` up and its height is in
+    ``[u^2 / 2 D_max, u^2 / 2 D]``; it falls back at a rate in ``[R_min, R_max] = [.., P_max - f]``,
+    so it lasts ``u / sqrt(D_max R_max) .. u / sqrt(D R_min)`` down and the next speed is in
+    ``[rho_lo u, rho u]``, ``rho = e sqrt(R_max / D)``, ``rho_lo = e sqrt(R_min / D_max)``.  If
+    ``rho < 1`` the infinitely many later bounces sum to
+
+        K_lo u / (1 - rho_lo)  <=  t_inf - t  <=  K u / (1 - rho),
+
+    ``K = 1/D + 1/sqrt(D R_min)``, ``K_lo = 1/D_max + 1/sqrt(D_max R_max)``.  The bounds are
+    valid if the upper one fits in the window (the push bounds then held on every bounce) and
+    the heights stay below the gap (no other wall).  The width is second order in ``u``.
     """
     f, e = m.f, m.e
     W = m.T * arb(2) ** -20
@@ -55,14 +63,16 @@ def chatter_tail(m, t, side, u):
         if not (D > 0 and R_max > 0):
             break
         speed = u * max(arb(1), (R_max / D).sqrt()).upper()     # |v| on a bounce
-        R_min = push.lower() - f - (m.c * speed if m.damping else 0)
+        drag = m.c * speed if m.damping else arb(0)
+        R_min, D_max = push.lower() - f - drag, push.upper() + f + drag
         rho = e * (R_max / D).sqrt() if R_min > 0 else arb(1)
         if not rho < 1:
             break
-        tail = (1 / D + 1 / (D * R_min).sqrt()) * u / (1 - rho)
-        if tail < W and u * u / (2 * D) < m.r - m.l:
-            return tail.upper()
-        W = 2 * tail.upper()
+        high = (1 / D + 1 / (D * R_min).sqrt()) * u / (1 - rho)
+        if high < W and u * u / (2 * D) < m.r - m.l:
+            low = (1 / D_max + 1 / (D_max * R_max).sqrt()) * u / (1 - e * (R_min / D_max).sqrt())
+            return low.lower(), high.upper()
+        W = 2 * high.upper()
     raise Unproved(f"chatter at t = {t.mid().str(15)}: no window on which the push exceeds "
                    f"friction and the bounces shrink (the accumulation is not bounded)")
 
@@ -215,7 +225,7 @@ class Walk:
                 if ahead == self.i:         # the point integrator stops here: so must we
                     raise
             else:
-                if tail < CHATTER_CLOSE * m.T or ahead == self.i:
+                if tail[1] - tail[0] < CHATTER_CLOSE * m.T or ahead == self.i:
                     return self.close_chatter(side, ahead, tail)
                 self.fallback = (self.t, self.v, len(self.log), side, ahead, tail)
         self.to_flight(-side, {} if m.friction else {motion.wall_name(side): 1})
@@ -248,12 +258,12 @@ class Walk:
         return None
 
     def close_chatter(self, side, index, tail):
-        """Close the run at ``side`` now with the tail bound ``tail`` (:func:`chatter_tail`),
+        """Close the run at ``side`` now with the tail bounds ``tail`` (:func:`chatter_tail`),
         skip the point integrator's remaining bounces (the bound covers them) and its chatter
         event, and rest at the wall from the accumulation time on."""
         m = self.m
         self.fallback = None
-        t_inf = span(self.t.lower(), self.t.upper() + tail)
+        t_inf = span((self.t + tail[0]).lower(), (self.t + tail[1]).upper())
         if not t_inf < self.t_end:
             raise Unproved("the chatter accumulates at t_end (an event at t = kT)")
         simulated = 0
