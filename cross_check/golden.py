@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import json
 import math
-from fractions import Fraction
 import pathlib
 import sys
 import time
@@ -43,7 +42,7 @@ from cross_check.agreement import compare
 from cross_check import scenes
 from cross_check.tolerances import tol
 from reference.enclosure import enclose_map
-from reference.enclosure.balls import from_fraction, workprec
+from reference.enclosure.balls import decimal_ball, radius_text, workprec
 
 GOLDEN_DPS = 90
 CHECK_DPS = GOLDEN_DPS + 20
@@ -169,24 +168,12 @@ def record(sc, res: dict) -> dict:
     }
 
 
-def _radius_text(value: float) -> str:
-    """A radius rounded *up* to 3 significant digits (``"0"`` for an exact ball)."""
-    if value == 0:
-        return "0"
-    exponent = math.floor(math.log10(value)) - 2
-    mantissa = math.ceil(value * (1 + 1e-12) / 10.0 ** exponent)
-    return f"{mantissa / 100:.2f}e{exponent + 2}"
-
-
 def ball_record(ball) -> list:
     """``[mid, radius]`` strings of a ball that contains ``ball`` and is at least
     ``golden_enclosure_floor`` wide (at the current arb precision)."""
     floor = tol("golden_enclosure_floor")
-    mid = ball.mid().str(ENCLOSURE_DIGITS, radius=False)
-    written = from_fraction(Fraction(mid))
-    radius = (abs(written - ball.mid()) + ball.rad()).upper()
-    widened = max(float(radius), floor.rtol * abs(float(written)) + floor.atol)
-    return [mid, _radius_text(widened)]
+    mid, radius = decimal_ball(ball, ENCLOSURE_DIGITS)
+    return [mid, radius_text(max(radius, floor.rtol * abs(float(mid)) + floor.atol))]
 
 
 def enclosure(sc, case) -> dict:
@@ -199,7 +186,7 @@ def enclosure(sc, case) -> dict:
     if not enc.proved:
         return {"proved": False, "reason": enc.reason}
     with workprec(enc.prec):
-        return {"proved": True, "radius": _radius_text(enc.rel_radius()), "prec": enc.prec,
+        return {"proved": True, "radius": radius_text(enc.rel_radius()), "prec": enc.prec,
                 "phi": [ball_record(b) for b in enc.phi],
                 "jacobian": [[ball_record(b) for b in row] for row in enc.jacobian]}
 

@@ -28,7 +28,8 @@ _MODE_AFTER = {"impact": "flight", "turn": "flight", "slip": "flight", "release"
                "stick": "stick", "contact": "contact", "chatter": "contact"}
 
 
-def _mul(P, Q):
+def mat_mul(P, Q):
+    """The 2x2 product ``P Q`` (any number type)."""
     return [[P[0][0] * Q[0][0] + P[0][1] * Q[1][0], P[0][0] * Q[0][1] + P[0][1] * Q[1][1]],
             [P[1][0] * Q[0][0] + P[1][1] * Q[1][0], P[1][0] * Q[0][1] + P[1][1] * Q[1][1]]]
 
@@ -96,20 +97,20 @@ def product_of_table1(model, log):
     mode, start = "flight", (log.t0, log.x0, log.v0)
     for ev in log:
         if mode == "flight":
-            J = _mul(_flight(model, start, ev.t), J)
+            J = mat_mul(_flight(model, start, ev.t), J)
         elif mode == "stick" and ev.kind == "slip":
-            J = _mul(stick, J)
+            J = mat_mul(stick, J)
         elif mode == "contact" and ev.kind == "release":
             J = nothing
         if ev.kind == "impact":
-            J = _mul(impact_matrix(model, model.force(ev.x, ev.t), ev.v_before, ev.t), J)
+            J = mat_mul(impact_matrix(model, model.force(ev.x, ev.t), ev.v_before, ev.t), J)
         elif ev.kind == "turn":
-            J = _mul(turn_matrix(model, model.force(ev.x, ev.t)), J)
+            J = mat_mul(turn_matrix(model, model.force(ev.x, ev.t)), J)
         mode, start = _MODE_AFTER[ev.kind], (ev.t, ev.x, ev.v)
     if mode == "flight":
-        J = _mul(_flight(model, start, log.t_end), J)
+        J = mat_mul(_flight(model, start, log.t_end), J)
     elif mode == "stick":
-        J = _mul(stick, J)
+        J = mat_mul(stick, J)
     else:
         J = nothing
     return J

@@ -242,3 +242,19 @@ def test_property_chatter_accumulates_inside_its_bound(orbit):
     slack = tol("ref_chatter_time_dps50")
     with workprec(enc.prec):
         assert _inside(ball[0].t, point[0].t, slack)
+
+
+def test_a_written_ball_contains_the_proved_ball():
+    """decimal_ball (golden data, claims JSON): the written interval covers the ball's ends,
+    the midpoint's rounding included, and an exact value keeps radius 0."""
+    from fractions import Fraction
+
+    from reference.enclosure.balls import decimal_ball
+    with workprec(320):
+        ball = arb(1) / 3 + arb(0, arb(2) ** -200)
+        for digits in (5, 20, 50):
+            mid, radius = decimal_ball(ball, digits)
+            low, high = Fraction(mid) - Fraction(radius), Fraction(mid) + Fraction(radius)
+            assert from_number(low) <= ball.lower() and from_number(high) >= ball.upper()
+            assert radius < 10.0 ** (1 - digits)
+        assert decimal_ball(arb(1), 50)[1] == 0.0

@@ -13,6 +13,7 @@ of such certain comparisons.
 from __future__ import annotations
 
 import contextlib
+import math
 from fractions import Fraction
 
 import mpmath
@@ -82,14 +83,28 @@ def to_mpf(value: arb) -> mpmath.mpf:
     return mpmath.mpf((int(man) < 0, abs(int(man)), int(exp), abs(int(man)).bit_length()))
 
 
-def hull(a: arb, b: arb) -> arb:
-    """The smallest ball containing both."""
-    return a.union(b)
-
-
 def span(lo: arb, hi: arb) -> arb:
     """The ball from the lower end of ``lo`` to the upper end of ``hi``."""
     return lo.lower().union(hi.upper())
+
+
+def decimal_ball(ball: arb, digits: int) -> tuple[str, float]:
+    """``(mid, radius)``: ``mid`` a ``digits``-digit decimal string, ``radius`` a float such
+    that ``[mid - radius, mid + radius]`` contains ``ball`` (the rounding of the written
+    midpoint included, rounded up).  Call at the ball's working precision."""
+    mid = ball.mid().str(digits, radius=False)
+    radius = (abs(from_fraction(Fraction(mid)) - ball.mid()) + ball.rad()).upper()
+    value = float(radius)
+    return mid, (math.nextafter(value, math.inf) if value else 0.0)
+
+
+def radius_text(value: float) -> str:
+    """A radius rounded *up* to 3 significant digits (``"0"`` for an exact ball)."""
+    if value == 0:
+        return "0"
+    exponent = math.floor(math.log10(value)) - 2
+    mantissa = math.ceil(value * (1 + 1e-12) / 10.0 ** exponent)
+    return f"{mantissa / 100:.2f}e{exponent + 2}"
 
 
 def rel_radius(value: arb) -> float:

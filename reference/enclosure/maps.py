@@ -18,14 +18,14 @@ from typing import Optional
 import mpmath
 from flint import arb
 
-from reference.api import check_count
+from reference.api import _model_here, check_count
 from reference.enclosure.balls import (DEFAULT_PREC, BallModel, from_fraction, from_number,
                                        rel_radius, to_mpf, workprec)
 from reference.enclosure.certify import Unproved
 from reference.enclosure.walk import Walk
 from reference.integrator import MAX_EVENTS, integrate
 from reference.jacobian import product_of_table1
-from reference.model import GUARD_DIGITS, Model
+from reference.model import GUARD_DIGITS
 from reference.scene import Scene
 
 #: The highest precision the retries reach (bits) unless the caller sets ``max_prec``.
@@ -63,15 +63,10 @@ def _ball_model(scene, prec):
     return BallModel(scene)
 
 
-@lru_cache(maxsize=32)
-def _point_model(scene, prec):
-    return Model(scene)
-
-
 def _point_log(scene, x, v, phase, periods, prec, max_events):
     dps = int(prec / 3.33) + GUARD_DIGITS
     with mpmath.workdps(dps):
-        model = _point_model(scene, mpmath.mp.prec)
+        model = _model_here(scene)
         t0 = model.T * phase.numerator / phase.denominator
         duration = model.T * periods.numerator / periods.denominator
         log = integrate(model, t0, to_mpf(x), to_mpf(v), t0 + duration, max_events)

@@ -35,6 +35,7 @@ from reference.api import check_count
 from reference.enclosure.balls import DEFAULT_PREC, from_mpf, from_number, to_mpf, workprec
 from reference.enclosure.balls import span as span_ball
 from reference.enclosure.maps import enclose_map
+from reference.jacobian import mat_mul
 
 #: Newton steps on the midpoints before the proof (each one enclosure of ``P`` at a point).
 NEWTON_STEPS = 30
@@ -164,7 +165,7 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid):
     C = _mid(_inverse(M))
     residual = [enc_mid.phi[0] - z[0], enc_mid.phi[1] - z[1]]
     JZ = _mat_sub_identity(box.jacobian)
-    CJ = [[sum(C[i][k] * JZ[k][j] for k in range(2)) for j in range(2)] for i in range(2)]
+    CJ = mat_mul(C, JZ)
     B = [[(1 if i == j else 0) - CJ[i][j] for j in range(2)] for i in range(2)]
     dz = [arb(0, r), arb(0, r)]
     head = _matvec(C, residual)

@@ -89,6 +89,7 @@ class Walk:
         self.mode, self.s, self.side, self.orders = "flight", 0, 0, {}
         self.pieces = 0
         self.fallback = None          # the last impact of a chatter run with a bounded tail
+        self.ahead = None             # (side, index) of the chatter event ending the current run
 
     # -- point events -------------------------------------------------------------------
     def peek(self):
@@ -248,10 +249,14 @@ class Walk:
 
     def _chatter_ahead(self, side):
         """The index of the point integrator's chatter event if the run at ``side`` ends in
-        one (only turns and impacts at this wall before it), else None."""
+        one (only turns and impacts at this wall before it), else None.  Scanned once per run:
+        the answer holds for every later bounce of the run (cached until passed)."""
+        if self.ahead is not None and self.i <= self.ahead[1] and self.ahead[0] == side:
+            return self.ahead[1]
         for j in range(self.i, len(self.points)):
             ev = self.points[j]
             if ev.kind == "chatter":
+                self.ahead = (side, j)
                 return j
             if not (ev.kind == "turn" or (ev.kind == "impact" and self._wall_side(ev.x) == side)):
                 return None

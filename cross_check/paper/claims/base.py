@@ -24,9 +24,11 @@ import numpy as np
 import reference
 from cross_check.dynamics import periodic
 from reference.enclosure import prove_periodic, prove_segment
-from reference.enclosure.balls import workprec
+from reference.enclosure.balls import decimal_ball, workprec
 
 DPS = 50
+#: digits of the midpoints of the proofs' balls (their rounding is part of the radius)
+BALL_DIGITS = 50
 #: event counts of a periodic orbit are taken over [SHIFT T, (SHIFT + 1) T] (no event at the window ends)
 SHIFT = mpmath.mpf("0.3183")
 VERDICTS = ("reproduced", "not reproduced", "erratum")
@@ -160,8 +162,9 @@ def refined(scene, p, dps=DPS):
     return out
 
 
-def _ball(b, digits=20):
-    return [b.mid().str(digits, radius=False), float(b.rad().upper())]
+def _ball(b):
+    """``[mid, radius]`` of a ball that contains ``b``, midpoint's rounding included."""
+    return list(decimal_ball(b, BALL_DIGITS))
 
 
 def prove(label, scene, x, v, k=1, segment=None) -> dict:
@@ -180,7 +183,7 @@ def prove(label, scene, x, v, k=1, segment=None) -> dict:
     with workprec(p.prec):
         mults = [{"re": _ball(m[0]), "im": _ball(m[1])} if isinstance(m, tuple) else _ball(m)
                  for m in p.multipliers]
-        rec.update(radius=p.radius, phase=str(p.phase), point=[_ball(b, 30) for b in p.point],
+        rec.update(radius=p.radius, phase=str(p.phase), point=[_ball(b) for b in p.point],
                    multipliers=mults, kind=p.kind, stability=p.stability,
                    itinerary=dict(Counter(p.itinerary)))
     return rec
