@@ -416,3 +416,15 @@ TOLERANCES.update({
             "independent 50-digit integrator (error ~1e-48 after a period's conditioning) "
             "lands inside it; 1e-43 keeps 3 decades under golden_enclosure_rel"),
 })
+
+# --- issue 25: validated flights under position forcing (reference.enclosure.lohner) -------
+TOLERANCES.update({
+    "validated_flight_radius": Tol(
+        rtol=1e-30, atol=0.0,
+        why="issue 25 acceptance: a validated flight over one period at 200 bits (60 digits) "
+            "has relative radius <= 1e-30. Each Taylor step's Lagrange remainder is below "
+            "2^-200 of the state's scale and the rounding of ~100-term series ~1e3 ulp; ~15 steps "
+            "a period in the Lohner QR frame grow the box by about |Phi'| <= ~10, so ~1e-57 is "
+            "expected: 1e-30 leaves 27 decades, and a lost remainder or a wrapping blow-up "
+            "(an axis box over a period) would not be caught by it, only by containment"),
+})
