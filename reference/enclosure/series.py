@@ -46,7 +46,7 @@ from __future__ import annotations
 
 from operator import mul
 
-from flint import arb
+from flint import arb, arb_poly
 
 
 def _dot(a, b_reversed) -> arb:
@@ -118,8 +118,9 @@ class Field:
         return xs, self._variational(S, P, variational)
 
     def _variational(self, S, P, order):
+        SP = (arb_poly(S[:order]) * arb_poly(P[:order])).coeffs()      # both known: one product
         Fk = -self.F * self.k
-        B = [Fk * _dot(S[:n + 1], P[n::-1]) for n in range(order)]
+        B = [Fk * SP[n] if n < len(SP) else arb(0) for n in range(order)]
         cols = []
         for dx0, dv0 in ((1, 0), (0, 1)):
             dx, dv = [arb(dx0)], [arb(dv0)]
