@@ -4,11 +4,16 @@ Run with ``python -m pytest tests/benchmarks/test_bench_enclosure.py --benchmark
 each ``enclose`` row with the ``point`` row of the same orbit (one run, same machine: report the
 ratio).  The point reference runs at dps 96, the digits of the enclosure's 320 bits.  Each
 benchmark checks its result: the proof holds and contains the point answer.
+
+Group "enclosure-xpot" (issue 25): position forcing, where both sides integrate flights by
+Taylor series -- the proof on validated flights (balls, Picard boxes, Lohner frames, the
+flow derivative) against the point reference's Taylor flights at the same digits.
 """
 import mpmath
 import pytest
 
 import reference
+from cross_check import scenes
 from reference.enclosure import enclose_map, prove_periodic
 from reference.enclosure.balls import from_mpf, workprec
 from tests.strategies import REFERENCE_SCENES
@@ -50,3 +55,35 @@ def test_bench_prove_the_caption_saddle(benchmark):
     x, v = paper.symmetric_solution(sc, 2, dps=60).state0()
     proof = benchmark(prove_periodic, sc, x, v)
     assert proof.proved and proof.kind == "saddle"
+
+
+#: position forcing (fig:xpotno): the non-sticking centre (two impacts), and golden sample-6 (two turns)
+XPOT_ORBITS = {
+    "xpot centre impacts": ("0.8711736193141787", "4.039221265591076"),
+    "xpot turns": ("-0.6990588081638365", "-0.04105985922703809"),
+}
+
+
+@pytest.mark.benchmark(group="enclosure-xpot")
+@pytest.mark.parametrize("orbit", sorted(XPOT_ORBITS))
+def test_bench_enclose_xpot_one_period(benchmark, orbit):
+    scene, (x, v) = scenes.scene("fig:xpotno"), XPOT_ORBITS[orbit]
+    enc = benchmark(enclose_map, scene, x, v)
+    assert enc.proved, enc.reason
+    point = reference.stroboscopic_map(scene, x, v, dps=96)
+    with workprec(enc.prec):
+        assert all(abs(from_mpf(p) - b.mid()) <= b.rad() + mpmath.mpf(10) ** -90
+                   for p, b in zip(point, enc.phi))
+
+
+@pytest.mark.benchmark(group="enclosure-xpot")
+@pytest.mark.parametrize("orbit", sorted(XPOT_ORBITS))
+def test_bench_point_xpot_one_period_dps96(benchmark, orbit):
+    result = benchmark(reference.stroboscopic_map, scenes.scene("fig:xpotno"), *XPOT_ORBITS[orbit], dps=96)
+    assert len(result) == 2
+
+
+@pytest.mark.benchmark(group="enclosure-xpot")
+def test_bench_prove_the_xpot_centre(benchmark):
+    proof = benchmark(prove_periodic, scenes.scene("fig:xpotno"), *XPOT_ORBITS["xpot centre impacts"])
+    assert proof.proved and proof.kind == "elliptic"
