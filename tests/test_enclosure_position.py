@@ -42,14 +42,21 @@ def _inside(ball, value):
 def test_map_and_jacobian_contain_the_point_reference(scene, x, v, kinds):
     enc = enclose_map(scene, x, v)
     assert enc.proved, enc.reason
-    log = reference.trajectory(scene, x, v, 2 * mpmath.pi / scene.mpf("omega"), dps=DPS)
-    assert [e.kind for e in enc.events] == ([e.kind for e in log] if kinds is None else kinds)
+    log = list(reference.trajectory(scene, x, v, 2 * mpmath.pi / scene.mpf("omega"), dps=DPS))
+    got = [e.kind for e in enc.events]
+    if kinds is None:               # chatter: the proof closes the run once its tail is bounded,
+        cut = got.index("chatter")  # so it logs fewer bounces than the point integrator
+        pairs = list(zip(enc.events[:cut], log)) + list(zip(enc.events[cut + 1:][::-1], log[::-1]))
+        assert "chatter" in [e.kind for e in log] and got[cut + 1:] == [e.kind for e in log][len(log) - len(got) + cut + 1:]
+    else:
+        assert got == kinds == [e.kind for e in log]
+        pairs = list(zip(enc.events, log))
     xr, vr = reference.stroboscopic_map(scene, x, v, dps=DPS)
     J = reference.jacobian(scene, x, v, dps=DPS)
     with workprec(enc.prec):
         assert _inside(enc.phi[0], xr) and _inside(enc.phi[1], vr), (enc.phi, xr, vr)
         assert all(_inside(enc.jacobian[i][j], J[i][j]) for i in range(2) for j in range(2))
-        assert all(_inside(b.t, p.t) for b, p in zip(enc.events, log) if b.kind != "chatter")
+        assert all(b.kind == p.kind and _inside(b.t, p.t) for b, p in pairs)
     assert enc.rel_radius() <= tol("golden_enclosure_rel").rtol
 
 
@@ -108,3 +115,38 @@ def test_k_to_zero_is_the_plain_model():
         pairs = list(zip(got.phi, want.phi)) + [(got.jacobian[i][j], want.jacobian[i][j])
                                                 for i in range(2) for j in range(2)]
         assert all(abs(g.mid() - w.mid()) <= g.rad() + w.rad() for g, w in pairs)
+
+
+# --- property (hypothesis, slow): eq. xpot's family, damping included ----------------------------
+from hypothesis import assume, given, settings, strategies as st  # noqa: E402
+
+from tests.strategies import states, xpot_scenes  # noqa: E402
+
+
+@st.composite
+def _xpot_cases(draw):
+    sc = draw(xpot_scenes())
+    x, v = draw(states(sc, vmax=3.0))
+    # the point integrator (reference.integrator) loops on a frictionless rest at a wall where
+    # the force is exactly 0 (cos(pi/2 * 1) = 0): "no progress in time"; not the proof's case
+    assume(not (v == 0 and abs(x) == 1 and not sc.has("friction")))
+    return sc, x, v
+
+
+@pytest.mark.slow
+@settings(max_examples=12)
+@given(_xpot_cases())
+def test_property_a_position_forced_proof_contains_the_point_reference(case):
+    """Any scene of the family and any float state: the proof holds -- and contains the point
+    reference at dps 60, map and Jacobian -- or says why not."""
+    sc, x, v = case
+    enc = enclose_map(sc, x, v, max_prec=320)
+    if not enc.proved:
+        assert len(enc.reason) > 20
+        return
+    xr, vr = reference.stroboscopic_map(sc, x, v, dps=DPS)
+    with workprec(enc.prec):
+        assert _inside(enc.phi[0], xr) and _inside(enc.phi[1], vr), (enc.phi, xr, vr)
+        if enc.jacobian is not None and not any(e.kind in ("stick", "contact", "chatter") for e in enc.events):
+            J = reference.jacobian(sc, x, v, dps=DPS)
+            assert all(_inside(enc.jacobian[i][j], J[i][j]) for i in range(2) for j in range(2))
