@@ -1,19 +1,16 @@
 """Computer-assisted proofs end to end (issue 17): the claims' orbits and ``prove``.
 
-The default run proves the orbits of three claims (the caption's saddle, the focus and
-period-5 orbit, fig:xpotno's centre on validated flights) and re-proves the golden data of
-two scenes through the CLI and one position-forced input; ``slow`` proves everything (every
-golden input of every scene, every orbit of the full claims table).
+The default run proves the orbits of two claims (the caption's saddle, the focus and period-5
+orbit; fig:xpotno's centre is checked with its claim in tests/test_claims.py) and re-proves the
+golden data of two scenes through the CLI and one position-forced input; ``slow`` proves
+everything (every golden input of every scene, every orbit of the full claims table).
 """
 import json
 
 import pytest
 
-import reference
 from cross_check import golden, proofs, scenes
 from cross_check.paper import claims as C
-from cross_check.paper.claims import closed_forms
-from cross_check.tolerances import tol
 
 
 def _proofs(cid, quick=True):
@@ -50,22 +47,6 @@ def test_the_no_impact_attractor_is_proved_as_a_segment_of_fixed_points():
         assert p["proved"] and p["kind"].startswith("segment") and float(one[0]) == 1 and one[1] == 0
     assert got["f = 0.6"]["multipliers"][1] == ["0", 0.0] and "stick" in got["f = 0.6"]["itinerary"]
     assert 0 < float(got["f = 0.3"]["multipliers"][1][0]) < 1
-
-
-def test_the_xpot_centre_is_proved_elliptic_on_validated_flights():
-    """fig:xpotno's non-sticking centre (position forcing, issue 25): a unique fixed point of
-    Phi in its box, two impacts a period, multipliers proved non-real on the unit circle.  The
-    point reference's Phi' at the seed (mpmath Taylor flights, not the balls) has the same
-    trace within ``claim_multiplier``."""
-    from tests.test_claims import row            # the quick row, computed once per session
-    (p,) = row("xpot-equilibria")["proved"]
-    assert p["proved"], p.get("reason")
-    assert p["kind"] == "elliptic" and p["itinerary"] == {"impact": 2}
-    (m,) = p["multipliers"]
-    re, im = float(m["re"][0]), float(m["im"][0])
-    assert m["re"][1] < 1e-40 and m["im"][1] < 1e-40 and abs(re * re + im * im - 1) < 1e-15
-    J = reference.jacobian(scenes.scene("fig:xpotno"), *closed_forms.XPOT_CENTRE, dps=30)
-    assert abs(float(J[0][0] + J[1][1]) / 2 - re) < tol("claim_multiplier").atol
 
 
 def test_prove_cli_golden_one_scene(tmp_path, capsys):
