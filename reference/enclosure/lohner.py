@@ -72,8 +72,9 @@ from reference.enclosure.certify import Unproved
 from reference.enclosure.series import Field
 from reference.jacobian import mat_mul
 
-#: Bound on the steps of one flight (a step budget; exceeding it leaves the flight unproved).
-MAX_STEPS = 5000
+#: Bound on the steps of one flight (a step budget; exceeding it leaves the flight unproved):
+#: a period of eq. xpot takes ~15 steps, ~20 ms each at 320 bits, so 2000 is ~100 periods.
+MAX_STEPS = 2000
 #: Bound on the halvings of one step, and on the Picard iterations of one a priori box.
 HALVINGS = 30
 PICARD_TRIES = 12
@@ -93,13 +94,6 @@ def taylor_order(prec: int) -> int:
     ``h = rho q`` with ``q^p = 2^-prec``: the cost per unit time ``p^2 / h`` is least at
     ``ln(1/q) = 2``, i.e. ``p = prec ln 2 / 2`` (111 at 320 bits, ``h ~ rho / 7``)."""
     return max(12, round(prec * math.log(2) / 2))
-
-
-def _ball_hull(parts):
-    out = parts[0]
-    for b in parts[1:]:
-        out = out.union(b)
-    return out
 
 
 def _mat_vec(M, z):
