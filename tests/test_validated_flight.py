@@ -67,6 +67,22 @@ def test_a_period_of_flight_contains_the_point_taylor_reference(scene, x0, v0, s
         assert len(fl.steps) >= 8                                  # a chain of steps
 
 
+@pytest.mark.slow
+def test_a_flight_of_another_scene_contains_mpmaths_odefun():
+    """A third integrator, mpmath's ``odefun`` (its own Taylor method, ~1e-40 at 40 digits), on a
+    scene that is not the paper's (other k, F, f, w, damping): inside the ball up to its error
+    (``taylor_odefun_dps30``'s headroom, far above the ball's ~1e-94)."""
+    with mpmath.workdps(40):
+        k, c, f = mpmath.mpf("0.9"), mpmath.mpf("0.15"), mpmath.mpf("0.3")
+        sol = mpmath.odefun(lambda t, y: [y[1], 2 * mpmath.cos(k * y[0]) * mpmath.cos(3 * t) - f - c * y[1]],
+                            mpmath.mpf("0.2"), [mpmath.mpf("0.1"), mpmath.mpf("1.3")])
+        want = sol(mpmath.mpf("1.7"))
+    with workprec(320):
+        fl = ValidatedFlight(BallModel(OTHER), from_number("0.2"), from_number("0.1"), from_number("1.3"), 1)
+        for got, value in zip(fl.state(from_number("1.5")), want):
+            assert _inside(got, value, tol("taylor_odefun_dps30"))
+
+
 def test_a_flight_from_a_ball_of_start_times_contains_both_ends():
     """An event time is a ball: the flight from ``t0 +- 1e-20`` contains the flights from both
     ends (the start moved to the ball's lower end and the Picard enclosure of that move)."""
