@@ -104,6 +104,7 @@ def stroboscopic_map(scene, x, v, *, periods=1, dps=50, max_events=MAX_EVENTS):
         x, v = _state(model, x, v)
         if periods == 0:
             return _rounded(dps, x, v)
+        model.check_span(0, periods * model.T, "periods")
         log = integrate(model, mpmath.mpf(0), x, v, periods * model.T, max_events)
         return _rounded(dps, log.x_end, log.v_end)
 
@@ -123,6 +124,7 @@ def trajectory(scene, x, v, t_end, *, t0=0, dps=50, max_events=MAX_EVENTS) -> Ev
         t0, t_end = to_mpf("t0", t0), to_mpf("t_end", t_end)
         if t_end < t0:
             raise ValueError(f"t_end must be >= t0 (integration runs forward), got t0={t0}, t_end={t_end}")
+        model.check_span(t0, t_end)
         log = integrate(model, t0, x, v, t_end, max_events)
         return _round_log(log, dps)
 

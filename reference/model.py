@@ -8,12 +8,47 @@ Taylor flight of ``reference.taylor``.
 """
 from __future__ import annotations
 
+import math
+
 import mpmath
 
 from reference import events, flows
 
 #: Guard digits added to the caller's ``dps`` inside every public call.
 GUARD_DIGITS = 12
+#: Bits by which the working precision must resolve the scene's own scales (the gap against
+#: the position scale, the forcing's velocity ``F/w`` against the velocity scale, a period
+#: against the time span of a call) above the noise floor ``eps = 2^(-prec + NOISE_BITS)``:
+#: below that the noise floors, which decide "at the wall" and "at rest", swallow the motion
+#: (measured: l = 1e30, r = l + 1 at dps = 15 returned the wall, silently; w = 1e20 at dps =
+#: 15 stalled in stick/slip: with friction, turns and stops are velocity zeros, decided against
+#: the velocity noise).  The caller is told the dps that would resolve it.
+RESOLVED_BITS = 20
+
+#: The largest ``damping/omega`` the reference takes: a damped flight's certified event search
+#: steps through the fast relaxation (time ``1/c``) and its bounds grow with ``c``; measured
+#: at F = w = 1, f = 0.1, dps = 15 (one period): c = 100 takes 3 s, c = 250 about 18 s, and
+#: from c = 500 the search exceeds its budget of safe steps (a RuntimeError after ~15 s).
+MAX_DAMPING_RATIO = 128
+
+
+def needed_dps(ratio) -> int:
+    """The least ``dps`` whose working precision (``dps + GUARD_DIGITS`` digits) resolves a
+    scale ``ratio`` times below the noise floor's reference scale by ``RESOLVED_BITS``."""
+    bits = float(mpmath.log(ratio, 2)) + RESOLVED_BITS + flows.NOISE_BITS
+    return max(15, math.ceil(bits / math.log2(10)) + 1 - GUARD_DIGITS)
+
+
+def check_resolution(eps, scale, target, what: str, names: str) -> None:
+    """``ValueError`` unless ``eps * scale <= 2^-RESOLVED_BITS * target``: ``what`` (a
+    quantity of size ``target``, from the parameters ``names``) must stand out of the noise
+    of values of size ``scale``; the message gives the ``dps`` that would resolve it."""
+    if target > 0 and eps * scale > mpmath.ldexp(target, -RESOLVED_BITS):
+        raise ValueError(
+            f"reference: {what} = {mpmath.nstr(target, 3)} (from {names}) is "
+            f"{mpmath.nstr(target / scale, 3)} of its scale {mpmath.nstr(scale, 3)}: the working "
+            f"precision of dps = {mpmath.mp.dps - GUARD_DIGITS} (+{GUARD_DIGITS} guard digits) "
+            f"cannot resolve it; needs dps >= {needed_dps(scale / target)}")
 
 
 class Model:
@@ -40,6 +75,19 @@ class Model:
         self.x_scale = max(abs(self.l), abs(self.r), gap, self.F / self.w ** 2)
         self.v_scale = self.F / self.w + gap * self.w + self.f * self.T
         self.a_scale = self.F + self.f + gap * self.w ** 2
+        if self.c > MAX_DAMPING_RATIO * self.w:
+            raise ValueError(
+                f"reference: damping/omega = {mpmath.nstr(self.c / self.w, 3)} (from damping = "
+                f"{scene.damping!r:.60}, omega = {scene.omega!r:.60}) is above "
+                f"reference.model.MAX_DAMPING_RATIO = {MAX_DAMPING_RATIO}: the certified event "
+                f"search of a damped flight steps through relaxations of time 1/damping and "
+                f"exceeds its budget of safe steps")
+        exact_gap = scene.gap()
+        check_resolution(self.eps, self.x_scale, exact_gap, "the gap r - l",
+                         "l, r and the position scale max(|l|, |r|, F/omega^2)")
+        if self.F > self.f > 0:   # the force moves a resting particle: velocity zeros decide
+            check_resolution(self.eps, self.v_scale, self.F / self.w, "the forcing's velocity F/omega",
+                             "F, omega and the velocity scale F/omega + (r - l) omega + f T")
         self.forcing = flows.CosineForcing(self.F, self.w, self.k)
         # constants of the base flight (shared by all flights of a run)
         self.Fw = self.F / self.w
@@ -66,6 +114,12 @@ class Model:
         if self.damping:
             return flows.DampedFlight
         return flows.BaseFlight
+
+    def check_span(self, t0, t_end, names="t0, t_end") -> None:
+        """``ValueError`` unless the period ``T`` stands out of the noise of times of size
+        ``max(|t0|, |t_end|)`` (a call's time span) by ``RESOLVED_BITS``."""
+        check_resolution(self.eps, max(abs(t0), abs(t_end), self.T), self.T,
+                         "the period T = 2 pi/omega", f"omega and the time span {names}")
 
     def flight(self, t0, x0, v0, s):
         """A flight from ``(t0, x0, v0)`` with velocity sign ``s`` (0 when frictionless)."""
