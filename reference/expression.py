@@ -60,6 +60,13 @@ MAX_POWER_EXPONENT = 4096
 #: reference can produce is accepted, while converting one stays a matter of microseconds.
 MAX_RATIONAL_BITS = 65536
 
+#: An expression is evaluated at ``PROBE_BITS`` and at ``KEY_BITS`` (``Scene``'s order checks)
+#: when read; the two values must agree to ``STABLE_BITS``.  An expression that cancels more
+#: (``"pi - 3.14159265358979323846264338327950288"``, ``"1e20 + 1 - 1e20"``) has a value that
+#: depends on the precision it is evaluated at (it may even divide by zero at one of them),
+#: while ``Expr.mpf`` keeps only 20 guard bits: it is refused (write the value as a decimal).
+PROBE_BITS, KEY_BITS, STABLE_BITS = 113, 400, 100
+
 _ALLOWED_BINOPS = (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow)
 _LOG2_10 = math.log2(10)
 
@@ -221,7 +228,11 @@ def _approx(value) -> mpmath.mpf:
 
 
 def _magnitude(value) -> mpmath.mpf:
-    """``value`` as a 64-bit mpf after checking its binary exponent (``LimitError``)."""
+    """``value`` as a 64-bit mpf after checking its binary exponent (``LimitError``) and, for
+    an exact rational, its size (``NotExact`` beyond ``MAX_RATIONAL_BITS``)."""
+    if isinstance(value, Fraction) and max(abs(value.numerator).bit_length(),
+                                           value.denominator.bit_length()) > MAX_RATIONAL_BITS:
+        raise NotExact
     x = _approx(value)
     if not mpmath.isfinite(x):
         raise ValueError("it is not finite")
@@ -231,18 +242,75 @@ def _magnitude(value) -> mpmath.mpf:
     return x
 
 
+class NotExact(Exception):
+    """Raised in exact (``Fraction``) evaluation where the value is not a small rational: a
+    non-integer power, or a rational beyond ``MAX_RATIONAL_BITS`` (``read`` then keeps the
+    expression and evaluates it at each precision instead)."""
+
+
 def _check_power(a, b):
     """``a ** b`` is refused unless ``|b| <= MAX_POWER_EXPONENT`` and ``|b log2 |a||`` (the
-    result's binary exponent, estimated at 64 bits) is within ``MAX_EXPONENT_BITS``."""
+    result's binary exponent, estimated at 64 bits) is within ``MAX_EXPONENT_BITS``.  In
+    exact arithmetic the exponent must be an integer and the result's numerator and
+    denominator, of ``|b|`` times the base's bit lengths, within ``MAX_RATIONAL_BITS``
+    (``NotExact`` otherwise) -- all checked before the power is taken."""
     x, y = _approx(a), _approx(b)
     if abs(y) > MAX_POWER_EXPONENT:
         raise LimitError(f"it has a power with exponent {mpmath.nstr(y, 5)}, beyond "
                          f"MAX_POWER_EXPONENT = {MAX_POWER_EXPONENT}")
+    if isinstance(a, Fraction) and isinstance(b, Fraction):
+        size = max(abs(a.numerator).bit_length(), a.denominator.bit_length())
+        if b.denominator != 1 or size * abs(b.numerator) > MAX_RATIONAL_BITS:
+            raise NotExact
     if not x or not y:
         return
     with mpmath.workprec(64):
         bits = y * mpmath.log(abs(x), 2)
     _check_exponent(int(mpmath.nint(bits)), f"the power {mpmath.nstr(x, 5)}**{mpmath.nstr(y, 5)}")
+
+
+def _exact(tree):
+    """The exact rational value of a tree without ``pi`` and with integer powers (``eval_tree``
+    in ``Fraction`` arithmetic), or ``None``; sizes within ``MAX_RATIONAL_BITS``."""
+    if any(isinstance(node, ast.Name) for node in ast.walk(tree)):
+        return None
+    try:
+        value = eval_tree(tree, Fraction, Fraction(0))
+        check_rational(value)
+    except (NotExact, LimitError):
+        return None
+    return value
+
+
+def read(text: str):
+    """The value of ``text``, checked: ``parse``, then the exact ``Fraction`` where the
+    expression is a small rational (no ``pi``, integer powers: ``"1/3"``, ``"2*0.1"``,
+    ``"10**-5"``), else an ``Expr`` whose values at ``PROBE_BITS`` and ``KEY_BITS`` are
+    finite, real and agree to ``STABLE_BITS`` (``ValueError`` otherwise)."""
+    expr = Expr(text, parse(text))
+    try:
+        exact = _exact(expr._tree)
+    except ZeroDivisionError:
+        raise ValueError("it divides by zero") from None
+    if exact is not None:
+        return exact
+    values = []
+    for bits in (PROBE_BITS, KEY_BITS):
+        with mpmath.workprec(bits):
+            try:
+                value = eval_tree(expr._tree)
+            except ZeroDivisionError:
+                raise ValueError(f"it divides by zero (at {bits} bits)") from None
+        if not (isinstance(value, mpmath.mpf) and mpmath.isfinite(value)):
+            raise ValueError("it is not finite and real")
+        values.append(value)
+    low, high = values
+    with mpmath.workprec(KEY_BITS):
+        if abs(low - high) > mpmath.ldexp(abs(high), -STABLE_BITS):
+            raise ValueError(f"it cancels: its values at {PROBE_BITS} and {KEY_BITS} bits differ in "
+                             f"the first {STABLE_BITS} bits (STABLE_BITS); write the value as a "
+                             f"decimal")
+    return expr
 
 
 class Expr:
@@ -257,7 +325,11 @@ class Expr:
     def mpf(self) -> mpmath.mpf:
         """The value at the current mpmath precision (a few guard bits inside)."""
         with mpmath.workprec(mpmath.mp.prec + 20):
-            value = eval_tree(self._tree)
+            try:
+                value = eval_tree(self._tree)
+            except ZeroDivisionError:
+                raise ValueError(f"the scene value {self.text!r} divides by zero at "
+                                 f"{mpmath.mp.prec} bits") from None
         return +value
 
     def evaluate(self, number, pi):

@@ -16,8 +16,14 @@ parameters and validation, nothing that integrates. Every parameter is kept *exa
 * ``int`` and ``float`` are taken as the exact binary value they hold (as mpmath does);
 * a decimal string such as ``"0.8"`` is the exact decimal 4/5, at any precision;
 * a string expression in ``pi`` (``"2*pi"``, ``"(2*pi)**2"``, ``"pi/2"``) is exact too:
-  it is evaluated at whatever precision the caller works in;
+  it is evaluated at whatever precision the caller works in; an expression without ``pi``
+  and with integer powers (``"1/3"``, ``"2*0.1"``) is read as its exact rational;
 * an ``mpmath.mpf`` is the exact binary value it holds.
+
+Values may come from files written by others: reading one is bounded work.  Texts, trees,
+magnitudes (``2^-4096 .. 2^4096``), powers and exact rationals have named limits in
+``reference.expression`` (re-exported here); a value beyond one is a ``ValueError`` that
+starts ``"Scene: <name>"`` and names the limit and the text.
 
 ``scene.mpf(name)`` gives a parameter at the current mpmath precision (correctly
 rounded for rationals), ``scene.float(name)`` as a correctly rounded float64.
@@ -33,8 +39,8 @@ import mpmath
 
 from reference.expression import (MAX_DEPTH, MAX_EXPONENT_BITS, MAX_NODES,  # noqa: F401
                                   MAX_POWER_EXPONENT, MAX_RATIONAL_BITS, MAX_TEXT_LENGTH,
-                                  Expr, LimitError, check_mpf_parts, check_rational,
-                                  decimal_value, eval_tree, parse)
+                                  KEY_BITS, Expr, LimitError, check_mpf_parts, check_rational,
+                                  decimal_value, read)
 
 Number = Union[int, float, str, "mpmath.mpf", Fraction]
 
@@ -85,7 +91,7 @@ def _exact_value(value) -> Union[Fraction, Expr]:
 
 
 def _from_text(text: str) -> Union[Fraction, Expr]:
-    """A decimal string exactly, or a checked expression in ``pi`` (probed at 113 bits)."""
+    """A decimal string exactly, or a checked expression in ``pi`` (``expression.read``)."""
     if len(text) > MAX_TEXT_LENGTH:
         raise LimitError(f"it has {len(text)} characters, more than MAX_TEXT_LENGTH = {MAX_TEXT_LENGTH}")
     try:
@@ -97,17 +103,12 @@ def _from_text(text: str) -> Union[Fraction, Expr]:
     if dec is not None:
         return dec
     try:
-        expr = Expr(text, parse(text))
-        with mpmath.workprec(113):
-            probe = eval_tree(expr._tree)
+        return read(text)
     except LimitError:
         raise
-    except (ValueError, ZeroDivisionError) as exc:
+    except ValueError as exc:
         raise ValueError(f"must be a number, a decimal string or an expression in pi "
-                         f"(+ - * / ** and parentheses) ({str(exc) or 'a division by zero'})") from None
-    if not (mpmath.isfinite(probe) and mpmath.im(probe) == 0):
-        raise ValueError("must be finite and real")
-    return expr
+                         f"(+ - * / ** and parentheses): {exc}") from None
 
 
 def _as_mpf(value: Union[Fraction, Expr]) -> mpmath.mpf:
@@ -120,7 +121,7 @@ def _compare_key(value: Union[Fraction, Expr]):
     """A value good enough for order checks between parameters (exact for rationals)."""
     if isinstance(value, Fraction):
         return value
-    with mpmath.workprec(400):
+    with mpmath.workprec(KEY_BITS):
         return Fraction(*_mpf_ratio(value.mpf()))
 
 
