@@ -416,3 +416,14 @@ TOLERANCES.update({
             "independent 50-digit integrator (error ~1e-48 after a period's conditioning) "
             "lands inside it; 1e-43 keeps 3 decades under golden_enclosure_rel"),
 })
+
+# --- issue 29: the engines on extreme scenes (tests/test_engine_ranges.py) -------------------
+TOLERANCES.update({
+    "engines_scaled_one_period": Tol(
+        rtol=0.0, atol=1e-13,
+        why="issue 29: fast_one_period_max in the scene's own units: position errors over "
+            "max(|l|, |r|, r - l, F/w^2), velocity errors over F/w + (r - l) w + f T -- the "
+            "scales of both engines' noise floors.  A scene rescaled in length and time is the "
+            "same problem (the paper's rescalings), so float64 carries the same few ulp per "
+            "event of these scales as at the paper's units; a wrong event misses by O(1)"),
+})

@@ -16,6 +16,12 @@ Bounds used by the certified event search (``fast.roots``), for a flight with si
 wall function ``g1 = s (W_s - x)``: ``|g1''| = |s A - f| <= F + f``, ``|g1'''| <= F w``;
 velocity function ``g2 = s v``: ``|g2''| = |A'| <= F w``, ``|g2'''| <= F w^2``.  With damping
 ``c_d > 0`` they depend on the segment's start speed (``fast.roots.damped_bounds``).
+
+Scene check (``check_ranges``, also for ``fast.ode``): every parameter and derived constant
+within ``FAST_MIN .. FAST_MAX`` (so no float64 operation of the loop overflows, underflows or
+warns), the walls resolvable (``MIN_RELATIVE_GAP``), a crossing of the gap longer than the time
+resolution of a period (``MIN_CROSSING``), damping within the measured range of the damped
+flights; otherwise a ``ValueError`` naming the quantity and the parameters it comes from.
 """
 from __future__ import annotations
 

@@ -91,7 +91,7 @@ def check_mpf_parts(man: int, exp: int) -> None:
     if man.bit_length() > MAX_RATIONAL_BITS:
         raise LimitError(f"its mantissa has more than MAX_RATIONAL_BITS = {MAX_RATIONAL_BITS} bits")
     if man:
-        _check_exponent(exp + man.bit_length(), "its magnitude")
+        _check_exponent(exp + man.bit_length() - 1, "its magnitude")
 
 
 def decimal_value(text: str):
