@@ -73,7 +73,7 @@ def _kind_line(rows) -> dict:
             "median_digits": float(np.median(digits)) if digits else None,
             "worst_digits_lost_to_floor": max(floor_lost) if floor_lost else None,
             "missed": missed, "invented": invented, "failures": failures,
-            "timeouts": sum(1 for c in rows if c.failure_kind == "timeout"),
+            "timeouts": sum(1 for c in graded if c.failure_kind == "timeout"),
             "grade": grade, "flagged": grade == "F"}
 
 
@@ -94,7 +94,8 @@ class Scorecard:
 
     def kinds(self) -> dict:
         """Per kind (in ``KINDS`` order, kinds with cases only): counts, worst digits outside the
-        band, missed/invented events, failures and timeouts, the grade and whether it is flagged."""
+        band, missed/invented events, failures and timeouts (outside the band), the grade and
+        whether it is flagged."""
         return {kind: _kind_line(rows) for kind in KINDS
                 if (rows := [c for c in self.cases if c.kind == kind])}
 
