@@ -42,7 +42,7 @@ import numpy as np
 from cross_check import scenes as scene_table
 from cross_check.agreement import compare
 from cross_check.score import adapters, isolate, runner
-from cross_check.score.golden import scene_cases, timeout_message
+from cross_check.score.golden import easiest, scene_cases, timeout_message
 from cross_check.score.protocol import BadAdapter, load_adapter
 from cross_check.score.sheet import CaseScore, Scorecard
 
@@ -86,13 +86,6 @@ def _case_score(case, out: runner.Outcome) -> CaseScore:
     return s
 
 
-def _easiest(cases) -> int:
-    """The start to warm up on: one whose exact itinerary neither sticks nor chatters (where general
-    integrators loop), with the fewest events."""
-    hard = {"stick", "slip", "contact", "release", "chatter"}
-    return min(range(len(cases)), key=lambda i: (any(e[0] in hard for e in cases[i].events), len(cases[i].events), i))
-
-
 def score_scene(adapter, name: str, periods=(1, 10), *, run=None, budget=None, say=None) -> dict:
     """Every golden case of one scene: ``{"cases": [CaseScore], "seconds_per_period", "ten", "mode"}``.
     ``run``: a ``runner`` (default: one for ``adapter``, closed after); ``budget``: a
@@ -107,12 +100,12 @@ def score_scene(adapter, name: str, periods=(1, 10), *, run=None, budget=None, s
         X, V = np.array([c.x for c in cases]), np.array([c.v for c in cases])
         names = [f"{c.id} [{c.kind}]" for c in cases]
         steps, seconds, mode = runner.run_starts(run, "step", params, X, V, 1, budget, names, say, sc.effects,
-                                                 _easiest(cases))
+                                                 easiest(cases))
         out = [_case_score(c, o) for c, o in zip(cases, steps)]
         ok = [i for i, s in enumerate(out) if s.failure is None]
         if run.meta["events"] and ok:
             logs, _, _ = runner.run_starts(run, "events", params, X[ok], V[ok], None, budget,
-                                           [names[i] for i in ok], say, sc.effects, _easiest([cases[i] for i in ok]))
+                                           [names[i] for i in ok], say, sc.effects, easiest([cases[i] for i in ok]))
             for i, log in zip(ok, logs):
                 if log.failure is None:
                     out[i].missed, out[i].invented = _itinerary(cases[i], log.value, sc)

@@ -146,6 +146,13 @@ def scene_cases(name: str) -> list[GoldenCase]:
     return out
 
 
+def easiest(cases) -> int:
+    """The index of the case to warm an integrator up on: one whose exact itinerary neither sticks
+    nor chatters (where general integrators loop), with the fewest events."""
+    hard = {"stick", "slip", "contact", "release", "chatter"}
+    return min(range(len(cases)), key=lambda i: (any(e[0] in hard for e in cases[i].events), len(cases[i].events), i))
+
+
 def all_cases(names=None) -> list[GoldenCase]:
     """Every golden case of the scenes ``names`` (default: all scenes with golden data)."""
     return [c for name in (names or scenes.SCENES) for c in scene_cases(name)]

@@ -17,11 +17,12 @@ scenes; ``--golden-kinds KIND ...`` the kinds (``score.golden.KINDS``).
 test body does), so it runs the whole test function of each golden case in a worker process
 (``score.isolate.Worker``, ``spawn``), one per session: the test module is imported there by its
 path and name, the test's arguments are pickled over, and the call gets ``--golden-timeout``
-seconds (default 10; the session's first test ``runner.FIRST_CALL_TIMEOUT``, for a JIT
-compiling).  Over it, the process is killed -- whatever the test is doing, in Python or in C --
-and the test fails with the scorecard's message: the case, its kind, what usually causes a
-timeout there (``golden.timeout_message``).  The session goes on in a fresh process, warmed by
-replaying the last test that passed (its outcome thrown away).  Output printed by the test comes
+seconds (default 10).  Over it, the process is killed -- whatever the test is doing, in Python or
+in C -- and the test fails with the scorecard's message: the case, its kind, what usually causes
+a timeout there (``golden.timeout_message``).  The session goes on in a fresh process, warmed by
+replaying the last test that passed (its outcome thrown away).  The first time a test function
+meets a set of effects, it is first run on the easiest case of that scene (its outcome thrown
+away, within ``runner.FIRST_CALL_TIMEOUT``): a JIT compiling there does not eat a case's budget.  Output printed by the test comes
 back with its result.  In the worker, bare ``assert`` statements are not rewritten by pytest
 (their message is Python's); ``assert_close`` says everything itself.
 
@@ -111,8 +112,15 @@ class _Session:
     """The session's worker and what it has been given."""
 
     def __init__(self, budget: float):
-        self.budget, self.worker, self.first = budget, isolate.Worker(), True
+        self.budget, self.worker = budget, isolate.Worker()
         self.imported, self.here = set(), {}      # module paths in the worker; paths run here -> why
+        self.warmed = set()                       # (module path, test, effects) warmed up
+
+    def first(self, key) -> bool:
+        """Whether ``key`` (module path, test, effects) comes for the first time (and note it)."""
+        new = key not in self.warmed
+        self.warmed.add(key)
+        return new
 
     def close(self):
         self.worker.close()
@@ -161,11 +169,11 @@ def pytest_pyfunc_call(pyfuncitem):
     if _STATE not in config.stash:
         config.stash[_STATE] = _Session(config.getoption("golden_timeout"))
     state = config.stash[_STATE]
-    budget = max(state.budget, runner.FIRST_CALL_TIMEOUT) if state.first else state.budget
-    state.first = False
     job, why = (None, "--golden-in-process") if config.getoption("golden_in_process") else _job(pyfuncitem)
-    if job is not None and job[0] not in state.here and _in_worker(state, job, case, budget):
+    if job is not None and job[0] not in state.here and _in_worker(state, job, case):
         return True
+    key = (pyfuncitem.module.__file__, pyfuncitem.originalname, case.effects)
+    budget = max(state.budget, runner.FIRST_CALL_TIMEOUT) if state.first(key) else state.budget
     why = state.here.get(job[0], why) if job is not None else why
     if why != "--golden-in-process":
         pyfuncitem.warn(pytest.PytestWarning(f"golden_case: {pyfuncitem.nodeid} runs in this process ({why}); "
@@ -186,11 +194,29 @@ def _timeout(case, budget, how) -> str:
     return timeout_message(case.id, case.kind, budget, how)
 
 
-def _in_worker(state, job, case, budget) -> bool:
+def _warm_up(state, job, case):
+    """The first time a test meets a set of effects (a JIT may compile a new code path), run it
+    untimed -- within ``runner.FIRST_CALL_TIMEOUT`` -- on the easiest case of the scene (one that
+    neither sticks nor chatters), its outcome thrown away, so the case itself gets its plain
+    budget whatever it is (the scorer's warm-up, ``runner.run_starts``)."""
+    if not state.first((job[0], job[2], case.effects)):
+        return
+    from cross_check.score.golden import easiest, scene_cases
+
+    cases = scene_cases(case.scene)
+    args = pickle.loads(job[4])
+    args["golden_case"] = _Checked(cases[easiest(cases)])
+    try:
+        state.worker.call(_RUN, *job[:4], pickle.dumps(args), budget=max(state.budget, runner.FIRST_CALL_TIMEOUT))
+    except (isolate.CallTimeout, isolate.WorkerDied, isolate.RemoteError):
+        pass
+
+
+def _in_worker(state, job, case) -> bool:
     """Run ``job`` in the session's worker and turn its outcome into this test's; ``False`` if its
     module does not import there (the test then runs here)."""
     path, name = job[0], job[1]
-    worker = state.worker
+    worker, budget = state.worker, state.budget
     if path not in state.imported:
         worker.setup.append((_IMPORT, (path, name)))        # every fresh process imports it first
         state.imported.add(path)
@@ -200,15 +226,18 @@ def _in_worker(state, job, case, budget) -> bool:
             worker.setup.remove((_IMPORT, (path, name)))
             state.here[path] = f"its module does not import in a worker process: {exc}"
             return False
+    _warm_up(state, job, case)
+    failed = None
     try:
         (status, text, out, err), _ = worker.call(_RUN, *job, budget=budget)
     except isolate.CallTimeout:
-        pytest.fail(_timeout(case, budget, "the worker process was stopped"), pytrace=False)
+        failed = _timeout(case, budget, "the worker process was stopped")
     except isolate.WorkerDied as exc:
-        pytest.fail(f"{case.id} [{case.kind}]: the worker process died during the test ({exc})", pytrace=False)
+        failed = f"{case.id} [{case.kind}]: the worker process died during the test ({exc})"
     except isolate.RemoteError as exc:
-        pytest.fail(f"{case.id} [{case.kind}]: the worker could not run the test: {exc}\n{exc.traceback}",
-                    pytrace=False)
+        failed = f"{case.id} [{case.kind}]: the worker could not run the test: {exc}\n{exc.traceback}"
+    if failed is not None:                 # raised here, not in the handler: no chained traceback
+        pytest.fail(failed, pytrace=False)
     sys.stdout.write(out)
     sys.stderr.write(err)
     if status == "passed":
