@@ -15,9 +15,10 @@ skipped), on the float64 input of every golden case (``score.golden``):
 * **time** per trajectory-period: the whole scene's batch in one ``step`` call.
 
 Grades per kind: ``sheet``.  **Time budget**: every call on a start has ``case_timeout``
-seconds (the first call of ``step`` and of ``events`` on each set of effects in a run
-``first_call_timeout``: a JIT may compile a new code path there); a start without a result in
-time is a failure of kind ``timeout`` and the run goes on.  An adapter given by its
+seconds; a start without a result in time is a failure of kind ``timeout`` and the run goes on.
+The first call of ``step`` and of ``events`` on each set of effects in a run is a warm-up on a
+start that neither sticks nor chatters, with ``first_call_timeout`` (a JIT may compile a new
+code path there), its outcome thrown away (``runner``).  An adapter given by its
 ``MODULE:NAME`` spec runs in a worker process that is killed when a call runs over (``runner``,
 ``isolate``); an adapter object runs in process, where the budget is checked after each call.
 A start whose one-period call ran out of time is not tried over ten periods (the same work
@@ -42,7 +43,7 @@ import numpy as np
 from cross_check import scenes as scene_table
 from cross_check.agreement import compare
 from cross_check.score import adapters, isolate, runner
-from cross_check.score.golden import easiest, scene_cases, timeout_message
+from cross_check.score.golden import easiest, scene_cases, timeout_message, warmup_case
 from cross_check.score.protocol import BadAdapter, load_adapter
 from cross_check.score.sheet import CaseScore, Scorecard
 
@@ -99,13 +100,16 @@ def score_scene(adapter, name: str, periods=(1, 10), *, run=None, budget=None, s
         params = dict(cases[0].params)
         X, V = np.array([c.x for c in cases]), np.array([c.v for c in cases])
         names = [f"{c.id} [{c.kind}]" for c in cases]
-        steps, seconds, mode = runner.run_starts(run, "step", params, X, V, 1, budget, names, say, sc.effects,
-                                                 easiest(cases))
+        for method in ("step", "events") if run.meta["events"] else ("step",):
+            if budget.first_time((method, sc.effects)):
+                w = warmup_case(sc.effects)
+                runner.warm_up(run, method, w.params, w.x, w.v, budget, f"{w.id} [{w.kind}]", say)
+        steps, seconds, mode = runner.run_starts(run, "step", params, X, V, 1, budget, names, say, easiest(cases))
         out = [_case_score(c, o) for c, o in zip(cases, steps)]
         ok = [i for i, s in enumerate(out) if s.failure is None]
         if run.meta["events"] and ok:
             logs, _, _ = runner.run_starts(run, "events", params, X[ok], V[ok], None, budget,
-                                           [names[i] for i in ok], say, sc.effects, easiest([cases[i] for i in ok]))
+                                           [names[i] for i in ok], say, easiest([cases[i] for i in ok]))
             for i, log in zip(ok, logs):
                 if log.failure is None:
                     out[i].missed, out[i].invented = _itinerary(cases[i], log.value, sc)
@@ -127,7 +131,7 @@ def _ten_periods(run, params, sc, cases, scores, budget, say):
     if tried:
         outs, _, _ = runner.run_starts(run, "step", params, np.array([cases[i].x for i in tried]),
                                        np.array([cases[i].v for i in tried]), 10, budget,
-                                       [f"{cases[i].id} [{cases[i].kind}] x10" for i in tried], say, sc.effects)
+                                       [f"{cases[i].id} [{cases[i].kind}] x10" for i in tried], say)
         got = {i: o.value for i, o in zip(tried, outs) if o.failure is None}
     out = []
     for i in picked:
@@ -243,8 +247,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help=f"budget of each call on a start (default {CASE_TIMEOUT:g}); a start over it is a "
                              "failure of kind timeout and the run goes on")
     parser.add_argument("--first-call-timeout", type=runner.positive_seconds, default=FIRST_CALL_TIMEOUT,
-                        metavar="SECONDS", help="budget of the first call of step and of events on each set of "
-                        f"effects, where a JIT may compile (default {FIRST_CALL_TIMEOUT:g})")
+                        metavar="SECONDS", help="budget of the warm-up call of step and of events on each set of "
+                        "effects, on a start that neither sticks nor chatters, where a JIT may compile "
+                        f"(default {FIRST_CALL_TIMEOUT:g})")
     parser.add_argument("--in-process", action="store_true",
                         help="call the adapter in this process, not in a worker process (for adapters that "
                              "cannot be loaded there); the budget is then checked after each call, so a "
@@ -270,7 +275,10 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
 
     def say(message):
-        print(f"[{time.perf_counter() - t0:6.1f}s] {message}", file=sys.stderr, flush=True)
+        try:
+            print(f"[{time.perf_counter() - t0:6.1f}s] {message}", file=sys.stderr, flush=True)
+        except OSError:               # stderr closed (a pipe into head): the run goes on, unheard
+            pass
 
     def checkpoint(card):
         last[:] = [card]

@@ -16,6 +16,7 @@ physics is ill-posed there in float64, and the scorecard lists it apart.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -146,11 +147,29 @@ def scene_cases(name: str) -> list[GoldenCase]:
     return out
 
 
+_HARD = frozenset({"stick", "slip", "contact", "release", "chatter"})
+
+
+def _difficulty(case) -> tuple:
+    return any(e[0] in _HARD for e in case.events), len(case.events)
+
+
 def easiest(cases) -> int:
     """The index of the case to warm an integrator up on: one whose exact itinerary neither sticks
     nor chatters (where general integrators loop), with the fewest events."""
-    hard = {"stick", "slip", "contact", "release", "chatter"}
-    return min(range(len(cases)), key=lambda i: (any(e[0] in hard for e in cases[i].events), len(cases[i].events), i))
+    return min(range(len(cases)), key=lambda i: (*_difficulty(cases[i]), i))
+
+
+@functools.lru_cache(maxsize=None)
+def warmup_case(effects: frozenset) -> GoldenCase:
+    """The easiest case (``easiest``) of every scene whose effects are ``effects``: what the first
+    call on a new set of effects runs on (a JIT compiles its code path there), so that even a scene
+    where every start sticks gets no start on the long first-call budget."""
+    picks = [cs[easiest(cs)] for name in scenes.SCENES if scenes.scene(name).effects == effects
+             for cs in [scene_cases(name)]]
+    if not picks:
+        raise ValueError(f"no scene with golden data has the effects {sorted(effects)}")
+    return min(picks, key=_difficulty)
 
 
 def all_cases(names=None) -> list[GoldenCase]:

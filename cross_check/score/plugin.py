@@ -21,8 +21,9 @@ seconds (default 10).  Over it, the process is killed -- whatever the test is do
 in C -- and the test fails with the scorecard's message: the case, its kind, what usually causes
 a timeout there (``golden.timeout_message``).  The session goes on in a fresh process, warmed by
 replaying the last test that passed (its outcome thrown away).  The first time a test function
-meets a set of effects, it is first run on the easiest case of that scene (its outcome thrown
-away, within ``runner.FIRST_CALL_TIMEOUT``): a JIT compiling there does not eat a case's budget.  Output printed by the test comes
+meets a set of effects, it is first run on a case with those effects that neither sticks nor
+chatters (its outcome thrown away, within ``runner.FIRST_CALL_TIMEOUT``): a JIT compiling there
+does not eat a case's budget.  Output printed by the test comes
 back with its result.  In the worker, bare ``assert`` statements are not rewritten by pytest
 (their message is Python's); ``assert_close`` says everything itself.
 
@@ -196,16 +197,15 @@ def _timeout(case, budget, how) -> str:
 
 def _warm_up(state, job, case):
     """The first time a test meets a set of effects (a JIT may compile a new code path), run it
-    untimed -- within ``runner.FIRST_CALL_TIMEOUT`` -- on the easiest case of the scene (one that
-    neither sticks nor chatters), its outcome thrown away, so the case itself gets its plain
-    budget whatever it is (the scorer's warm-up, ``runner.run_starts``)."""
+    within ``runner.FIRST_CALL_TIMEOUT`` on a case with those effects that neither sticks nor
+    chatters (``golden.warmup_case``), its outcome thrown away, so the case itself gets its plain
+    budget whatever it is (the scorer's ``runner.warm_up``)."""
     if not state.first((job[0], job[2], case.effects)):
         return
-    from cross_check.score.golden import easiest, scene_cases
+    from cross_check.score.golden import warmup_case
 
-    cases = scene_cases(case.scene)
     args = pickle.loads(job[4])
-    args["golden_case"] = _Checked(cases[easiest(cases)])
+    args["golden_case"] = _Checked(warmup_case(case.effects))
     try:
         state.worker.call(_RUN, *job[:4], pickle.dumps(args), budget=max(state.budget, runner.FIRST_CALL_TIMEOUT))
     except (isolate.CallTimeout, isolate.WorkerDied, isolate.RemoteError):

@@ -8,11 +8,13 @@ checked after each call returns, so a call that never returns hangs the run.
 
 ``run_starts`` calls ``step`` or ``events`` on a scene's starts:
 
-1. one start alone (the untimed warm-up: a JIT compiling is not the adapter's speed);
-   the first call of each method on each set of effects in a run gets ``Budget.first``;
-2. then the whole batch in one call (the timed one), with the budget of one start plus twice
-   the first start's time for each start (a sound but slow adapter is not cut off; when the
-   first call was the run's first, the budget of one start: its time includes compilation);
+0. (``warm_up``, once per method and set of effects in a run) one call on a start of any scene
+   with those effects that neither sticks nor chatters, within ``Budget.first``, its outcome
+   thrown away: a JIT compiling a new code path is not the adapter's speed, nor a timeout;
+1. one start alone (the scorer picks one that neither sticks nor chatters): its time sizes the
+   batch's budget;
+2. then the whole batch in one call (the timed one), with the budget of one start plus twice the
+   first start's time for each start (a sound but slow adapter is not cut off);
 3. where the first start ran out of time or the process died, or the batch raised or ran out of
    time: the others start by start, each with its own budget.  So a batch over its budget costs
    a rerun, never a grade, and each start's outcome is its own.
@@ -35,9 +37,9 @@ SLOW = 1.0        # seconds: a call running longer gets a progress line
 #: sound integrator does a period of any golden case in well under a second (the reference at 30
 #: digits: < 1 s on the slowest chatter)
 CASE_TIMEOUT = 10.0
-#: seconds for the first call of step and of events on each set of effects in a run
-#: (``--first-call-timeout``; the plugin's first test of a session): a cold numba compile of
-#: ``fast`` takes ~20 s on one core
+#: seconds for the warm-up call of step and of events on each set of effects in a run
+#: (``--first-call-timeout``; the plugin's warm-up of a test): a cold numba compile of ``fast``
+#: takes ~20 s on one core
 FIRST_CALL_TIMEOUT = 60.0
 
 
@@ -179,7 +181,7 @@ def runner(adapter, in_process: bool | None = None, setup_budget: float = isolat
 
 
 class Budget:
-    """``per_start`` seconds per call on a start; ``first`` for the first call of each method on
+    """``per_start`` seconds per call on a start; ``first`` for the warm-up call of each method on
     each set of effects (a JIT such as ``fast``'s compiles a kernel per code path: one per set of
     effects, e.g. position forcing; the first call on a new one includes that compilation)."""
 
@@ -188,22 +190,34 @@ class Budget:
             if not (isinstance(value, (int, float)) and np.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be a positive number of seconds, got {value!r}")
         self.per_start, self.first = float(per_start), max(float(first), float(per_start))
-        self._called: set = set()
+        self._seen: set = set()
 
-    def next(self, key) -> tuple[float, bool]:
-        """The budget of the next first-start call for ``key`` (method, effects), and whether it is
-        the first."""
-        first = key not in self._called
-        self._called.add(key)
-        return (self.first if first else self.per_start), first
+    def first_time(self, key) -> bool:
+        """Whether ``key`` (method, effects) comes for the first time (and note that it came)."""
+        new = key not in self._seen
+        self._seen.add(key)
+        return new
 
 
-def run_starts(run, method, params, X, V, periods, budget: Budget, names, say=None, path=(), first=0):
+def warm_up(run, method, params, x: float, v: float, budget: Budget, label: str, say=None) -> Outcome:
+    """One call of ``method`` on the start ``(x, v)`` within ``budget.first``, its outcome thrown
+    away: the first call on a new set of effects, made on a start that neither sticks nor chatters
+    (``golden.warmup_case``), so that a JIT compiling there eats no start's budget."""
+    say = say or (lambda m: None)
+    out = run.call(method, (params, np.array([x]), np.array([v]), 1 if method == "step" else None), budget.first,
+                   on_slow=lambda: say(f"  warm-up on {label}: {method} still running after {SLOW:g} s "
+                                       f"(budget {budget.first:g} s: a JIT may compile)"))
+    if out.seconds > SLOW or out.failure:
+        say(f"  warm-up on {label}: {method} " + (f"{out.kind}: {out.failure}" if out.failure
+                                                  else f"done in {out.seconds:.1f} s"))
+    return out
+
+
+def run_starts(run, method, params, X, V, periods, budget: Budget, names, say=None, first=0):
     """``method`` on the starts ``X, V`` (module docstring) -> ``(outcomes per start, seconds of the
     timed call or the sum of the single calls, "batch" | "start by start")``.  ``names``: the
-    starts' labels for progress lines; ``say(message)`` prints one; ``path``: the scene's effects
-    (the first call on each gets ``budget.first``); ``first``: the start to warm up on (the one
-    least likely to hang: the scorer picks one that neither sticks nor chatters)."""
+    starts' labels for progress lines; ``say(message)`` prints one; ``first``: the start to begin
+    with (the one least likely to hang: the scorer picks one that neither sticks nor chatters)."""
     n = len(X)
     say = say or (lambda m: None)
 
@@ -216,11 +230,10 @@ def run_starts(run, method, params, X, V, periods, budget: Budget, names, say=No
             out.value = _part(out.value, 0)
         return out
 
-    b0, was_first = budget.next((method, frozenset(path)))
     outs = [None] * n
-    outs[first] = warm = one(first, b0)
+    outs[first] = warm = one(first, budget.per_start)
     if n > 1 and warm.kind not in ("timeout", "crash"):
-        b = budget.per_start if was_first else min(n * budget.per_start, budget.per_start + 2 * n * warm.seconds)
+        b = min(n * budget.per_start, budget.per_start + 2 * n * warm.seconds)
         batch = run.call(method, (params, X, V, periods), b,
                          on_slow=lambda: say(f"  batch of {n} starts: {method} still running after {SLOW:g} s "
                                              f"(budget {b:g} s)"))
@@ -241,4 +254,5 @@ def _part(value, i):
     return value[i]
 
 
-__all__ = ["Budget", "InProcess", "Isolated", "Outcome", "run_starts", "runner"]
+__all__ = ["Budget", "CASE_TIMEOUT", "FIRST_CALL_TIMEOUT", "InProcess", "Isolated", "Outcome", "positive_seconds",
+           "run_starts", "runner", "warm_up"]

@@ -130,7 +130,7 @@ class Scorecard:
         if self.budget:
             b = self.budget
             lines += [f"Time budget: {b['case_timeout']:g} s per call on a start ({b['first_call_timeout']:g} s for "
-                      f"the first call of step and of events on each set of effects); {b['isolation']}"
+                      f"the warm-up call of step and of events on each set of effects); {b['isolation']}"
                       + (f"; {b['restarts']} worker restart(s)" if b.get("restarts") else "") + ".", ""]
         return lines
 
