@@ -184,7 +184,7 @@ class Worker:
             proc, self._spare = (self._spare or self._spawn()), None
             if self.kills >= 2 and self._spare is None:   # timeouts come in runs: warm the next one meanwhile
                 self._spare = self._spawn()
-            results = []
+            results, kind = [], "setup"
             try:
                 for kind, budget in proc.pending:
                     status, payload = proc.receive(budget)
@@ -192,9 +192,9 @@ class Worker:
                         if status != "ok":
                             raise RemoteError(*payload)
                         results.append(payload)
-            except CallTimeout:
+            except (CallTimeout, WorkerDied):
                 proc.kill()
-                if not self.warmups:
+                if kind == "setup":
                     raise
                 self.warmups.clear()    # a warm-up that no longer finishes: start without any
                 continue

@@ -115,10 +115,10 @@ class _Session:
     def __init__(self, budget: float):
         self.budget, self.worker = budget, isolate.Worker()
         self.imported, self.here = set(), {}      # module paths in the worker; paths run here -> why
-        self.warmed = set()                       # (module path, test, effects) warmed up
+        self.warmed = set()                       # (module path, test[, effects]) seen
 
     def first(self, key) -> bool:
-        """Whether ``key`` (module path, test, effects) comes for the first time (and note it)."""
+        """Whether ``key`` (module path, test[, effects]) comes for the first time (and note it)."""
         new = key not in self.warmed
         self.warmed.add(key)
         return new
@@ -173,12 +173,12 @@ def pytest_pyfunc_call(pyfuncitem):
     job, why = (None, "--golden-in-process") if config.getoption("golden_in_process") else _job(pyfuncitem)
     if job is not None and job[0] not in state.here and _in_worker(state, job, case):
         return True
-    key = (pyfuncitem.module.__file__, pyfuncitem.originalname, case.effects)
-    budget = max(state.budget, runner.FIRST_CALL_TIMEOUT) if state.first(key) else state.budget
+    test = (pyfuncitem.module.__file__, pyfuncitem.originalname)
+    budget = max(state.budget, runner.FIRST_CALL_TIMEOUT) if state.first((*test, case.effects)) else state.budget
     why = state.here.get(job[0], why) if job is not None else why
-    if why != "--golden-in-process":
-        pyfuncitem.warn(pytest.PytestWarning(f"golden_case: {pyfuncitem.nodeid} runs in this process ({why}); "
-                                             "its time budget is checked after it returns"))
+    if why != "--golden-in-process" and state.first(test):        # once per test function
+        pyfuncitem.warn(pytest.PytestWarning(f"golden_case: {pyfuncitem.originalname} runs in this process "
+                                             f"({why}); its time budget is checked after it returns"))
     if inspect.iscoroutinefunction(pyfuncitem.obj):
         return None                                  # pytest's own handling of async tests
     t0 = time.perf_counter()
