@@ -10,6 +10,10 @@ have the broadcast shape.  ``periods = 0`` is the identity (as in ``reference``)
 at the compiled rate the default ``MAX_EVENTS`` takes at most a few seconds per state.
 A state that needs more (a gap of 1e-9 with ``v = 1``: 6e9 impacts per period) raises a
 ``RuntimeError`` naming the states and their event counts instead of running on.
+
+``threads`` (every function): None for ``default_threads()`` (every core available to the
+process, or the environment variable ``VIBRO_THREADS``), or an int in ``[1, 1024]``.  The
+results are the same bits for every thread count.
 """
 from __future__ import annotations
 
@@ -45,13 +49,18 @@ def _real_array(name, a):
 
 def _validate(engine, P, x, v):
     """Broadcast ``x, v`` to float64 arrays; finite, with ``l <= x <= r``."""
-    x, v = np.broadcast_arrays(_real_array("x", x), _real_array("v", v))
+    x, v = _real_array("x", x), _real_array("v", v)
+    if x.shape != v.shape:
+        x, v = np.broadcast_arrays(x, v)
+    l, r = float(P[engine.p.L]), float(P[engine.p.R])
+    # one pass for the usual case (NaN fails both comparisons, +-inf fails one or is not finite)
+    if x.size and bool(np.all(x >= l)) and bool(np.all(x <= r)) and bool(np.isfinite(v).all()):
+        return x, v
     for name, a in (("x", x), ("v", v)):
         bad = ~np.isfinite(a)
         if bad.any():
             raise ValueError(f"fast: non-finite state: {_items(name, a, bad)} "
                              f"({int(bad.sum())} in all)")
-    l, r = float(P[engine.p.L]), float(P[engine.p.R])
     bad = (x < l) | (x > r)
     if bad.any():
         raise ValueError(f"fast: {_items('x', x, bad)} is outside the walls [{l!r}, {r!r}] "
@@ -74,70 +83,72 @@ def _count(name, value, *, low=0):
     return int(value)
 
 
-def _setup(scene, x, v, max_events):
+def _setup(scene, x, v, max_events, threads=None):
+    """The engine, its constants, the validated states, ``max_events`` and the thread count."""
     engine, P = _engine(scene)
     x, v = _validate(engine, P, x, v)
-    return engine, P, x, v, _count("max_events", max_events, low=1)
+    return engine, P, x, v, _count("max_events", max_events, low=1), batch.check_threads(threads)
 
 
 def _period(engine, P):
     return P[engine.p.T], P[engine.p.T_LO]
 
 
-def _run(engine, P, x, v, t_end, t_end_lo, max_events, **kw):
-    return batch.run(engine, P, x.ravel(), v.ravel(), t_end, t_end_lo, max_events=max_events, **kw)
+def _run(engine, P, x, v, t_end, t_end_lo, max_events, threads, **kw):
+    return batch.run(engine, P, x.ravel(), v.ravel(), t_end, t_end_lo, max_events=max_events,
+                     threads=threads, **kw)
 
 
-def stroboscopic_map(scene, x, v, *, periods=1, max_events=MAX_EVENTS):
+def stroboscopic_map(scene, x, v, *, periods=1, max_events=MAX_EVENTS, threads=None):
     """``Phi^periods(x, v)``: the state at ``t = periods T`` of the motion from ``(x, v)`` at
     ``t = 0``, each period from ``t0 = 0`` (the forcing is ``T``-periodic) with the state
     rounded to float64 in between; ``periods = 0`` returns the input."""
     periods = _count("periods", periods)
-    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
+    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
     xs, vs = x.ravel().copy(), v.ravel().copy()
     for _ in range(periods):
-        res = _run(engine, P, xs, vs, *_period(engine, P), max_events)
+        res = _run(engine, P, xs, vs, *_period(engine, P), max_events, threads)
         xs, vs = res.x, res.v
     return xs.reshape(x.shape), vs.reshape(x.shape)
 
 
-def orbit(scene, x, v, n, *, max_events=MAX_EVENTS):
+def orbit(scene, x, v, n, *, max_events=MAX_EVENTS, threads=None):
     """Iterates ``Phi^k(x, v)``, ``k = 0..n``: arrays of shape ``(n + 1,) + shape``."""
     n = _count("n", n)
-    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
+    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
     X = np.empty((n + 1,) + x.shape)
     V = np.empty_like(X)
     X[0], V[0] = x, v
     xs, vs = x.ravel().copy(), v.ravel().copy()
     for k in range(1, n + 1):
-        res = _run(engine, P, xs, vs, *_period(engine, P), max_events)
+        res = _run(engine, P, xs, vs, *_period(engine, P), max_events, threads)
         xs, vs = res.x, res.v
         X[k], V[k] = xs.reshape(x.shape), vs.reshape(x.shape)
     return X, V
 
 
-def map_and_jacobian(scene, x, v, *, max_events=MAX_EVENTS):
+def map_and_jacobian(scene, x, v, *, max_events=MAX_EVENTS, threads=None):
     """``(x1, v1, J, zero_velocity)`` over one period in one pass; ``J`` of shape ``shape +
     (2, 2)`` is ``Phi'``: the time-ordered product of the paper's Table 1 matrices
     (reflection with the velocity before impact; sticking ``[[1, 0], [0, 0]]``; wall
     contact the zero matrix)."""
-    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
-    res = _run(engine, P, x, v, *_period(engine, P), max_events, jac=True)
+    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
+    res = _run(engine, P, x, v, *_period(engine, P), max_events, threads, jac=True)
     sh = x.shape
     return res.x.reshape(sh), res.v.reshape(sh), res.J.reshape(sh + (2, 2)), res.zero_velocity.reshape(sh)
 
 
-def jacobian(scene, x, v, *, max_events=MAX_EVENTS):
+def jacobian(scene, x, v, *, max_events=MAX_EVENTS, threads=None):
     """``Phi'`` over one period, shape ``shape + (2, 2)`` (``map_and_jacobian``)."""
-    return map_and_jacobian(scene, x, v, max_events=max_events)[2]
+    return map_and_jacobian(scene, x, v, max_events=max_events, threads=threads)[2]
 
 
-def zero_velocity(scene, x, v, *, max_events=MAX_EVENTS):
+def zero_velocity(scene, x, v, *, max_events=MAX_EVENTS, threads=None):
     """Whether the motion over ``[0, T]`` reaches zero velocity (turn, stick, contact,
     chatter; with ``f = 0`` a smooth velocity reversal counts too): the paper's
     ``Omega_dissip``; the rest is ``Omega_pres``."""
-    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
-    res = _run(engine, P, x, v, *_period(engine, P), max_events)
+    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
+    res = _run(engine, P, x, v, *_period(engine, P), max_events, threads)
     return res.zero_velocity.reshape(x.shape)
 
 
@@ -151,10 +162,10 @@ def check_t_end(t_end):
     return t_end
 
 
-def flow(scene, x, v, t_end, *, max_events=MAX_EVENTS):
+def flow(scene, x, v, t_end, *, max_events=MAX_EVENTS, threads=None):
     """The state at ``t_end`` (any ``t_end >= 0``) of the motion from ``(x, v)`` at 0, in one
     pass (``stroboscopic_map`` restarts each period at ``t = 0`` instead)."""
     t_end = check_t_end(t_end)
-    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
-    res = _run(engine, P, x, v, t_end, 0.0, max_events)
+    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
+    res = _run(engine, P, x, v, t_end, 0.0, max_events, threads)
     return res.x.reshape(x.shape), res.v.reshape(x.shape)
