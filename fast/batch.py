@@ -33,6 +33,7 @@ environment variable ``VIBRO_THREADS`` (an integer in ``[1, MAX_THREADS]``) and 
 """
 from __future__ import annotations
 
+import functools
 import os
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -71,8 +72,11 @@ def default_threads() -> int:
     """The thread count of a call without ``threads=``: ``VIBRO_THREADS`` if set, else every
     core available to the process (``cores()``), evaluated now."""
     env = os.environ.get(ENV, "").strip()
-    if not env:
-        return cores()
+    return _env_threads(env) if env else cores()
+
+
+@functools.lru_cache(maxsize=16)
+def _env_threads(env):
     try:
         n = int(env)
     except ValueError:
@@ -83,10 +87,20 @@ def default_threads() -> int:
     return n
 
 
-def check_threads(threads) -> int:
-    """``threads=``: None (the default, ``default_threads()``) or an int in ``[1, MAX_THREADS]``."""
+def check_threads(threads, n=None) -> int:
+    """``threads=``: None (the default, ``default_threads()``) or an int in ``[1, MAX_THREADS]``.
+
+    ``n``, the batch size when known: a batch smaller than ``MIN_THREADED`` runs on the calling
+    thread whatever the count, so its default is 1 without counting the cores (a system call
+    per call costs a Newton step more than its states); ``VIBRO_THREADS`` is checked all the same.
+    """
     if threads is None:
-        return default_threads() if THREADS is None else THREADS
+        if THREADS is not None:
+            return THREADS
+        env = os.environ.get(ENV, "").strip()
+        if env:
+            return _env_threads(env)
+        return 1 if n is not None and n < MIN_THREADED else cores()
     if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)):
         raise TypeError(f"fast: threads must be None or an integer in [1, {MAX_THREADS}], got {threads!r}")
     if not 1 <= threads <= MAX_THREADS:
@@ -159,7 +173,7 @@ def run(engine, P, x, v, t_end, t_end_lo=0.0, *, jac=False, log=False, max_event
     cap = LOG_CAP if log else 0
     (xs, vs, zv, J, nev, status, paths), logs = _run_once(engine, P, x, v, t_end, t_end_lo, jac,
                                                    max_events, cap, threads)
-    if status.any():
+    if np.count_nonzero(status):
         _raise_on_failures(status, nev, x, v, max_events)
     if log and nev.size and nev.max() > cap:
         over = np.flatnonzero(nev > cap)
@@ -171,6 +185,29 @@ def run(engine, P, x, v, t_end, t_end_lo=0.0, *, jac=False, log=False, max_event
         for a, b in zip(logs, more):
             a[over] = b
     return Result(xs, vs, zv.astype(bool), J if jac else None, nev, paths, logs if log else None)
+
+
+def run_periods(engine, P, x, v, t_end, t_end_lo, periods, *, max_events, threads=None,
+                iterates=None):
+    """``Phi^periods`` on the flat float64 arrays ``x, v``: ``periods`` runs over
+    ``[0, t_end + t_end_lo]``, each from ``t = 0`` with the previous run's end state (the
+    forcing is periodic): the same bits as ``periods`` calls of ``run``, without its per-call
+    set-up.  ``iterates``: an array ``(periods + 1, n, 2)`` filled with every iterate (the start
+    first).  Returns the final ``(x, v)``; raises like ``run`` in the period that fails."""
+    threads = check_threads(threads, x.size)
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    v = np.ascontiguousarray(v, dtype=np.float64)
+    if iterates is not None:
+        iterates[0, :, 0], iterates[0, :, 1] = x, v
+    for k in range(1, periods + 1):
+        (xs, vs, _, _, nev, status, _), _ = _run_once(engine, P, x, v, t_end, t_end_lo, False,
+                                                     max_events, 0, threads)
+        if np.count_nonzero(status):
+            _raise_on_failures(status, nev, x, v, max_events)
+        x, v = xs, vs
+        if iterates is not None:
+            iterates[k, :, 0], iterates[k, :, 1] = x, v
+    return x, v
 
 
 def _pad(a):
