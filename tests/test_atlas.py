@@ -168,11 +168,13 @@ def test_scheduler_by_address_and_a_non_square_grid(small_dir, capsys):
     assert "claims ['area-preservation'] (this run: ['symmetric'])" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("text, nf, nr", [("64", 64, 64), ("256x64", 256, 64), (" 7X3 ", 7, 3)])
-def test_grid_names(text, nf, nr):
+@pytest.mark.parametrize("text, nf, nr, chunk", [("64", 64, 64, 16), ("256x64", 256, 64, 16), (" 7X3 ", 7, 3, 1),
+                                                ("8", 8, 8, 2)])
+def test_grid_names(text, nf, nr, chunk):
     g = Grid.parse(text)
     assert (g.nf, g.nr, g.name, g.shape) == (nf, nr, f"{nf}x{nr}", (nr, nf + 1))
     assert len(g.fF) == nf + 1 and g.fF[0] == 0 and len(g.R) == nr
+    assert g.default_chunk() == chunk and sum(r.stop - r.start for _, r, c in g.blocks(chunk) if c.start == 0) == nr
 
 
 @pytest.mark.parametrize("args, message", [(["--grid", "1"], "NF must be an int in [2, 4096]"),

@@ -6,7 +6,8 @@ one task that writes it into the Zarr store (``cross_check.atlas.store``) as soo
 column ``f = 0`` (where the frictionless closed forms hold) by ``NR`` log-spaced cell centres of
 ``w^2 R/F`` in ``[0.5, 100]`` (the paper's scenes sit at 0.8 ... 79); ``--grid 256`` is
 ``256x256``, ``--grid 256x64`` has 256 ``f/F`` columns (+1) and 64 ``w^2 R/F`` rows.  A task is a
-``C x C`` block of points (every listed claim at each), exactly one zarr chunk of every variable.
+``C x C`` block of points (every listed claim at each), exactly one zarr chunk of every variable
+(``C = CHUNK``, or less on a small grid: ``Grid.default_chunk``).
 ``dask.distributed`` runs the tasks: by default on a ``LocalCluster`` of ``--workers`` processes
 started here, or on an existing cluster with ``--scheduler tcp://HOST:PORT`` (the same code path;
 the workers write the store, so ``DIR`` must be on a file system they share).  Each task writes
@@ -78,6 +79,11 @@ class Grid:
         lo, hi = (math.log10(r) for r in R_RANGE)
         return 10.0 ** (lo + (np.arange(self.nr) + 0.5) / self.nr * (hi - lo))
 
+    def default_chunk(self) -> int:
+        """``CHUNK`` points per side, fewer on a small grid (at least 4 blocks along its shorter
+        side, so that a few workers share it)."""
+        return max(1, min(CHUNK, math.ceil(min(self.shape) / 4)))
+
     def blocks(self, chunk):
         """``[(k, rows, cols)]``: the ``chunk x chunk`` blocks (slices; the last ones are cut at the
         edge), row-major."""
@@ -96,10 +102,12 @@ def evaluate_block(grid, rows, cols, claims) -> dict:
 
 def run_block(path, grid, k, rows, cols, claims):
     """One task (runs on a worker): compute the block, write it and its done markers; returns
-    ``(k, points, seconds)``."""
-    t0 = time.perf_counter()
+    ``(k, points, seconds, cpu seconds)`` (the worker's CPU time: what the block costs on a
+    machine it shares)."""
+    t0, c0 = time.perf_counter(), time.process_time()
     store.write_block(path, rows, cols, evaluate_block(grid, rows, cols, claims))
-    return k, (rows.stop - rows.start) * (cols.stop - cols.start), time.perf_counter() - t0
+    return (k, (rows.stop - rows.start) * (cols.stop - cols.start), time.perf_counter() - t0,
+            time.process_time() - c0)
 
 
 def check_args(claims, grid, workers, chunk):
@@ -114,14 +122,17 @@ def check_args(claims, grid, workers, chunk):
         raise ValueError(f"chunk must be an int in [1, 1024], got {chunk!r}")
 
 
-def compute(claims, grid, out_dir, *, scheduler=None, workers=2, chunk=CHUNK, progress=None,
+def compute(claims, grid, out_dir, *, scheduler=None, workers=2, chunk=None, progress=None,
             client=None, command=None) -> dict:
     """Fill ``out_dir/atlas.zarr``, resuming it if it exists; returns the run's ``stats``.
+
+    ``chunk``: points per side of a block (default ``grid.default_chunk()``).
 
     ``client``: an existing ``distributed.Client`` (tests), else one on ``scheduler`` or on a new
     ``LocalCluster(n_workers=workers, threads_per_worker=1)``."""
     import pathlib
 
+    chunk = grid.default_chunk() if chunk is None and isinstance(grid, Grid) else chunk
     check_args(claims, grid, workers, chunk)
     claims = [c for c in C.CLAIMS if c in claims]           # one order: the store's identity
     try:
@@ -140,7 +151,7 @@ def compute(claims, grid, out_dir, *, scheduler=None, workers=2, chunk=CHUNK, pr
         say(f"atlas: resuming {path}: {len(done)} of {len(blocks)} chunks already written, skipped: {shown}")
     todo = [b for b in blocks if b[0] not in done]
     stats = {"chunks": len(blocks), "skipped": len(done), "computed": 0, "points": 0, "seconds": 0.0,
-             "workers": 0, "task_seconds": 0.0}
+             "workers": 0, "task_seconds": 0.0, "task_cpu_seconds": 0.0}
     if not todo:
         return stats
     own = client is None
@@ -160,10 +171,11 @@ def compute(claims, grid, out_dir, *, scheduler=None, workers=2, chunk=CHUNK, pr
                    for k, rows, cols in todo]
         total = sum((r.stop - r.start) * (c.stop - c.start) for _, r, c in todo)
         for n, fut in enumerate(as_completed(futures), 1):
-            k, points, seconds = fut.result()
+            k, points, seconds, cpu = fut.result()
             stats["computed"] += 1
             stats["points"] += points
             stats["task_seconds"] += seconds
+            stats["task_cpu_seconds"] += cpu
             rate = stats["points"] / (time.perf_counter() - t0)
             say(f"atlas: chunk {k} written ({n}/{len(todo)}), {rate:.1f} points/s, "
                 f"ETA {(total - stats['points']) / rate:.0f} s")
@@ -176,6 +188,7 @@ def compute(claims, grid, out_dir, *, scheduler=None, workers=2, chunk=CHUNK, pr
                 cluster.close()
     stats["points_per_second"] = stats["points"] / stats["seconds"]
     stats["points_per_second_per_worker"] = stats["points"] / stats["task_seconds"]
+    stats["points_per_cpu_second"] = stats["points"] / stats["task_cpu_seconds"]
     return stats
 
 
@@ -236,8 +249,8 @@ def main(argv=None) -> int:
                         help="claims to map (default: all)")
     parser.add_argument("--grid", default="64", help="N (an N x N grid) or NFxNR: NF f/F columns (plus f = 0) "
                         "by NR w^2 R/F rows, e.g. 256x64; default 64")
-    parser.add_argument("--chunk", type=int, default=CHUNK, help=f"points per side of a task's block and "
-                        f"of a zarr chunk (default {CHUNK})")
+    parser.add_argument("--chunk", type=int, default=None, help=f"points per side of a task's block and "
+                        f"of a zarr chunk (default {CHUNK}, fewer on grids smaller than {4 * CHUNK})")
     parser.add_argument("--scheduler", default=None, help="tcp://HOST:PORT of a running dask scheduler")
     parser.add_argument("--workers", type=int, default=2, help="local worker processes (default 2)")
     parser.add_argument("--out", default="atlas", help="output directory (default: atlas/)")

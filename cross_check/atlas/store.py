@@ -86,16 +86,13 @@ def encode(claims, rows: list) -> dict:
     for name in variables(claims):
         kind = VARIABLES[name][1]
         dtype, fill, _ = _KIND[kind]
-        if kind == "examples":
-            arr = np.full(shape + (N_EXAMPLES,), fill, dtype)
-            col = 0 if name.endswith("_x") else 1
-            for (i, j), d in np.ndenumerate(np.array(rows, dtype=object)):
-                for k, ex in enumerate(d["dissip_examples"][:N_EXAMPLES]):
-                    arr[i, j, k] = ex[col]
-        else:
-            arr = np.full(shape, fill, dtype)
-            for (i, j), d in np.ndenumerate(np.array(rows, dtype=object)):
-                if d[name] is not None:
+        arr = np.full(shape + ((N_EXAMPLES,) if kind == "examples" else ()), fill, dtype)
+        for i, row in enumerate(rows):
+            for j, d in enumerate(row):
+                if kind == "examples":
+                    for k, ex in enumerate(d["dissip_examples"][:N_EXAMPLES]):
+                        arr[i, j, k] = ex[0 if name.endswith("_x") else 1]
+                elif d[name] is not None:
                     arr[i, j] = d[name]
         out[name] = arr
     return out
@@ -154,8 +151,9 @@ def prepare(path, grid, claims, chunk, provenance) -> bool:
             raise ValueError(f"{path} holds another atlas: " + "; ".join(diff) +
                              ". Use another --out, or delete it to start again")
         return True
+    for stale in path.parent.glob(f"{path.name}.partial-*"):   # left by a run killed while creating
+        shutil.rmtree(stale, ignore_errors=True)
     tmp = path.with_name(f"{path.name}.partial-{os.getpid()}")
-    shutil.rmtree(tmp, ignore_errors=True)
     attrs = {**want, **provenance, "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
     ds = template(grid, claims, chunk, attrs)
     ds.to_zarr(tmp, mode="w-", compute=False, encoding=_encoding(ds), zarr_format=2, consolidated=True)
