@@ -129,11 +129,10 @@ def orbit(scene, x, v, n, *, max_events=MAX_EVENTS, threads=None):
     """Iterates ``Phi^k(x, v)``, ``k = 0..n``: arrays of shape ``(n + 1,) + shape``."""
     n = _count("n", n)
     engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
-    it = np.empty((n + 1, x.size, 2))
+    X, V = np.empty((n + 1, x.size)), np.empty((n + 1, x.size))
     batch.run_periods(engine, P, x.ravel(), v.ravel(), *_period(engine, P), n,
-                      max_events=max_events, threads=threads, iterates=it)
-    return (np.ascontiguousarray(it[..., 0]).reshape((n + 1,) + x.shape),
-            np.ascontiguousarray(it[..., 1]).reshape((n + 1,) + x.shape))
+                      max_events=max_events, threads=threads, iterates=(X, V))
+    return X.reshape((n + 1,) + x.shape), V.reshape((n + 1,) + x.shape)
 
 
 def map_and_jacobian(scene, x, v, *, periods=1, max_events=MAX_EVENTS, threads=None):

@@ -192,13 +192,14 @@ def run_periods(engine, P, x, v, t_end, t_end_lo, periods, *, max_events, thread
     """``Phi^periods`` on the flat float64 arrays ``x, v``: ``periods`` runs over
     ``[0, t_end + t_end_lo]``, each from ``t = 0`` with the previous run's end state (the
     forcing is periodic): the same bits as ``periods`` calls of ``run``, without its per-call
-    set-up.  ``iterates``: an array ``(periods + 1, n, 2)`` filled with every iterate (the start
-    first).  Returns the final ``(x, v)``; raises like ``run`` in the period that fails."""
+    set-up.  ``iterates``: a pair of arrays ``(periods + 1, n)`` to fill with every iterate's
+    ``x`` and ``v`` (the start first).  Returns the final ``(x, v)``; raises like ``run`` in the
+    period that fails."""
     threads = check_threads(threads, x.size)
     x = np.ascontiguousarray(x, dtype=np.float64)
     v = np.ascontiguousarray(v, dtype=np.float64)
     if iterates is not None:
-        iterates[0, :, 0], iterates[0, :, 1] = x, v
+        iterates[0][0], iterates[1][0] = x, v
     for k in range(1, periods + 1):
         (xs, vs, _, _, nev, status, _), _ = _run_once(engine, P, x, v, t_end, t_end_lo, False,
                                                      max_events, 0, threads)
@@ -206,7 +207,7 @@ def run_periods(engine, P, x, v, t_end, t_end_lo, periods, *, max_events, thread
             _raise_on_failures(status, nev, x, v, max_events)
         x, v = xs, vs
         if iterates is not None:
-            iterates[k, :, 0], iterates[k, :, 1] = x, v
+            iterates[0][k], iterates[1][k] = x, v
     return x, v
 
 
