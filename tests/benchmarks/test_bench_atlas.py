@@ -1,7 +1,8 @@
 """Cost of an atlas point: the per-point path before issue 27 against today's, on the same points
 (pytest-benchmark, group "atlas"; issue 27's goal: at least 2x the points per second per worker).
 
-Run: ``python -m pytest tests/benchmarks/test_bench_atlas.py --benchmark-only``.  The points are
+Run: ``python -m pytest tests/benchmarks/test_bench_atlas.py --benchmark-only`` (on a machine
+shared with other work add ``--benchmark-timer time.process_time``: CPU seconds).  The points are
 the first 4 rows of 4 blocks of a 64 x 64 atlas (the default ``--chunk 16``), on its diagonal, so
 the f/F range and the w^2 R/F range are both covered and a row of a block shares its seeds as in
 a real run; one worker (this process).  ``before``: ``atlas_before`` (the claims as they were,
