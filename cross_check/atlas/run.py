@@ -20,6 +20,7 @@ Progress: a line per written block with the rate and an ETA.
 """
 from __future__ import annotations
 
+import contextlib
 import math
 import re
 import sys
@@ -36,6 +37,8 @@ CHUNK = 16
 R_RANGE = (0.5, 100.0)
 RETRIES = 3
 GRID_MAX = 4096
+#: how long to try to reach a scheduler given by ``--scheduler``
+CONNECT_TIMEOUT = "20s"
 
 
 @dataclass(frozen=True)
@@ -126,24 +129,25 @@ def compute(claims, grid, out_dir, *, scheduler=None, workers=2, chunk=None, pro
             client=None, command=None) -> dict:
     """Fill ``out_dir/atlas.zarr``, resuming it if it exists; returns the run's ``stats``.
 
-    ``chunk``: points per side of a block (default ``grid.default_chunk()``).
-
-    ``client``: an existing ``distributed.Client`` (tests), else one on ``scheduler`` or on a new
-    ``LocalCluster(n_workers=workers, threads_per_worker=1)``."""
+    ``chunk``: points per side of a block (default ``grid.default_chunk()``); ``client``: an
+    existing ``distributed.Client`` (tests), else one on ``scheduler`` or on a new
+    ``LocalCluster(n_workers=workers, threads_per_worker=1)``.  Bad input, a store of another
+    atlas or an unreachable scheduler: ``ValueError`` (before anything is written)."""
     import pathlib
 
     chunk = grid.default_chunk() if chunk is None and isinstance(grid, Grid) else chunk
     check_args(claims, grid, workers, chunk)
     claims = [c for c in C.CLAIMS if c in claims]           # one order: the store's identity
     try:
-        from distributed import Client, LocalCluster, as_completed
+        import distributed  # noqa: F401
+        import xarray  # noqa: F401
+        import zarr  # noqa: F401
     except ModuleNotFoundError as exc:
-        raise ValueError("the atlas needs dask.distributed: python -m pip install -e '.[atlas]'") from exc
+        raise ValueError(f"the atlas needs {exc.name}: python -m pip install -e '.[atlas]'") from None
     path = store.locate(pathlib.Path(out_dir).resolve())
-    path.parent.mkdir(parents=True, exist_ok=True)
-    store.prepare(path, grid, claims, chunk, provenance(grid, claims, chunk, command))
+    existed = store.check(path, grid, claims, chunk)
     blocks = grid.blocks(chunk)
-    done = store.done_blocks(path, blocks)
+    done = store.done_blocks(path, blocks) if existed else set()
     say = progress or (lambda _msg: None)
     if done:
         ids = sorted(done)
@@ -154,42 +158,59 @@ def compute(claims, grid, out_dir, *, scheduler=None, workers=2, chunk=None, pro
              "workers": 0, "task_seconds": 0.0, "task_cpu_seconds": 0.0}
     if not todo:
         return stats
-    own = client is None
-    cluster = None
-    if own:
-        if scheduler:
-            client = Client(scheduler)
-        else:
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=":0")
-            client = Client(cluster)
-    try:
-        t0 = time.perf_counter()
-        token = uuid.uuid4().hex[:12]
-        futures = [client.submit(run_block, str(path), grid, k, rows, cols, tuple(claims),
-                                 key=f"atlas-{token}-{k}", retries=RETRIES, pure=False)
-                   for k, rows, cols in todo]
-        total = sum((r.stop - r.start) * (c.stop - c.start) for _, r, c in todo)
-        for n, fut in enumerate(as_completed(futures), 1):
-            k, points, seconds, cpu = fut.result()
-            stats["computed"] += 1
-            stats["points"] += points
-            stats["task_seconds"] += seconds
-            stats["task_cpu_seconds"] += cpu
-            rate = stats["points"] / (time.perf_counter() - t0)
-            say(f"atlas: chunk {k} written ({n}/{len(todo)}), {rate:.1f} points/s, "
-                f"ETA {(total - stats['points']) / rate:.0f} s")
-        stats["seconds"] = time.perf_counter() - t0
-        stats["workers"] = len(client.scheduler_info()["workers"])
-    finally:
-        if own:
-            client.close()
-            if cluster is not None:
-                cluster.close()
+    with _client(client, scheduler, workers) as client:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        store.prepare(path, grid, claims, chunk, provenance(grid, claims, chunk, command))
+        _run(client, path, grid, claims, todo, stats, say)
     stats["points_per_second"] = stats["points"] / stats["seconds"]
     stats["points_per_second_per_worker"] = stats["points"] / stats["task_seconds"]
     stats["points_per_cpu_second"] = stats["points"] / stats["task_cpu_seconds"]
     return stats
+
+
+@contextlib.contextmanager
+def _client(client, scheduler, workers):
+    """The given client, or one on ``scheduler``, or on a new ``LocalCluster`` (closed after)."""
+    if client is not None:
+        yield client
+        return
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        try:
+            own = Client(scheduler, timeout=CONNECT_TIMEOUT)
+        except (OSError, TimeoutError) as exc:
+            raise ValueError(f"cannot reach the dask scheduler at {scheduler!r} within "
+                             f"{CONNECT_TIMEOUT} ({type(exc).__name__}: {exc})") from None
+        with own:
+            yield own
+        return
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                      dashboard_address=":0") as cluster, Client(cluster) as own:
+        yield own
+
+
+def _run(client, path, grid, claims, todo, stats, say):
+    """Submit one task per block still to do, count them in as they complete (any order)."""
+    from distributed import as_completed
+
+    t0 = time.perf_counter()
+    token = uuid.uuid4().hex[:12]
+    futures = [client.submit(run_block, str(path), grid, k, rows, cols, tuple(claims),
+                             key=f"atlas-{token}-{k}", retries=RETRIES, pure=False)
+               for k, rows, cols in todo]
+    total = sum((r.stop - r.start) * (c.stop - c.start) for _, r, c in todo)
+    for n, fut in enumerate(as_completed(futures), 1):
+        k, points, seconds, cpu = fut.result()
+        stats["computed"] += 1
+        stats["points"] += points
+        stats["task_seconds"] += seconds
+        stats["task_cpu_seconds"] += cpu
+        rate = stats["points"] / (time.perf_counter() - t0)
+        say(f"atlas: chunk {k} written ({n}/{len(todo)}), {rate:.1f} points/s, "
+            f"ETA {(total - stats['points']) / rate:.0f} s")
+    stats["seconds"] = time.perf_counter() - t0
+    stats["workers"] = len(client.scheduler_info()["workers"])
 
 
 def provenance(grid, claims, chunk, command=None) -> dict:

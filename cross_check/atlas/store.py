@@ -137,24 +137,32 @@ def identity(grid, claims, chunk) -> dict:
     return {"grid": grid.name, "chunk": int(chunk), "claims": list(claims), "schema": SCHEMA}
 
 
-def prepare(path, grid, claims, chunk, provenance) -> bool:
-    """Create the store at ``path`` (its metadata and coordinates; no chunk yet), or check that
-    an existing one was made for the same grid, chunk and claims (``ValueError`` saying what
-    differs).  The new store is written beside and renamed into place, so a crash never leaves
-    a half-made one.  Returns whether the store existed."""
+def check(path, grid, claims, chunk) -> bool:
+    """Whether a store for this grid, chunk and claims exists at ``path`` (``False``: none yet);
+    ``ValueError`` saying what differs if the store there is another atlas, or no atlas."""
     path = pathlib.Path(path)
-    want = identity(grid, claims, chunk)
-    if path.exists():
-        have = read_identity(path)
-        diff = [f"{k} {have.get(k)!r} (this run: {v!r})" for k, v in want.items() if have.get(k) != v]
-        if diff:
-            raise ValueError(f"{path} holds another atlas: " + "; ".join(diff) +
-                             ". Use another --out, or delete it to start again")
+    if not path.exists():
+        return False
+    want, have = identity(grid, claims, chunk), read_identity(path)
+    diff = [f"{k} {have.get(k)!r} (this run: {v!r})" for k, v in want.items() if have.get(k) != v]
+    if diff:
+        raise ValueError(f"{path} holds another atlas: " + "; ".join(diff) +
+                         ". Use another --out, or delete it to start again")
+    return True
+
+
+def prepare(path, grid, claims, chunk, provenance) -> bool:
+    """Create the store at ``path`` (its metadata and coordinates; no chunk yet) unless ``check``
+    finds it there.  The new store is written beside and renamed into place, so a crash never
+    leaves a half-made one.  Returns whether the store existed."""
+    path = pathlib.Path(path)
+    if check(path, grid, claims, chunk):
         return True
     for stale in path.parent.glob(f"{path.name}.partial-*"):   # left by a run killed while creating
         shutil.rmtree(stale, ignore_errors=True)
     tmp = path.with_name(f"{path.name}.partial-{os.getpid()}")
-    attrs = {**want, **provenance, "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
+    attrs = {**identity(grid, claims, chunk), **provenance,
+             "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
     ds = template(grid, claims, chunk, attrs)
     ds.to_zarr(tmp, mode="w-", compute=False, encoding=_encoding(ds), zarr_format=2, consolidated=True)
     os.replace(tmp, path)
