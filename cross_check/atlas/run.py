@@ -243,7 +243,7 @@ def summarize(out_dir) -> dict:
 
     from cross_check.atlas import maps
 
-    ds = store.open_atlas(out_dir)
+    ds = store.open_atlas(out_dir).load()
     out = pathlib.Path(out_dir)
     bounds = {k: {"worst_cells": v[0], "lines": v[1]} for k, v in maps.boundaries(ds).items()}
     data = {"store": store.NAME, "grid": ds.attrs["grid"], "claims": ds.attrs["claims"],

@@ -265,7 +265,7 @@ def atlas_section(atlas_dir, report_dir) -> list[str]:
         return [f"No atlas in `{atlas_dir}/` yet.  Make one (64 x 64, about half a minute on 2 workers): " + make]
     try:
         from cross_check.atlas import maps, open_atlas
-        ds = open_atlas(atlas_dir)
+        ds = open_atlas(atlas_dir).load()
     except (ImportError, ValueError) as exc:
         return [f"The atlas in `{atlas_dir}/` cannot be shown: {exc}.  " + make]
     nf, nr = ds.sizes["f_over_F"] - 1, ds.sizes["w2R_over_F"]
