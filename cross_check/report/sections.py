@@ -262,7 +262,7 @@ def atlas_section(atlas_dir, report_dir) -> list[str]:
     make = ("`python -m pip install -e '.[atlas]' && python -m cross_check atlas`; the report then "
             "shows its maps here.")
     if not (pathlib.Path(atlas_dir) / "atlas.zarr").exists():
-        return [f"No atlas in `{atlas_dir}/` yet.  Make one (64 x 64, about half a minute on 2 workers): " + make]
+        return [f"No atlas in `{atlas_dir}/` yet.  Make one (64 x 64, about 40 CPU seconds): " + make]
     try:
         from cross_check.atlas import maps, open_atlas
         ds = open_atlas(atlas_dir).load()
