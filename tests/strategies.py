@@ -179,3 +179,15 @@ def chattering_orbits(draw):
     c1 = ef * (1 / (1 + ff) + 1 / math.sqrt(1 - ff * ff)) / (1 - rho)
     u0 = draw(st.floats(0.01, 1.0)) * min(0.1, 0.3 / c1)
     return Scene(F="1", f=f, omega="1", l="0", r="1", restitution=e), "1", f"{u0:.6g}"
+
+
+# --- enclosures: wrong point logs (tests/test_walk_negative.py, issue 24) -------------------
+@st.composite
+def log_perturbations(draw):
+    """``(op, where, size)``: a wrong point log from a right one -- ``remove`` an event, ``add``
+    a copy of one ``size`` T later, or ``shift`` one by ``size`` T -- at the event ``where``
+    (a fraction of the log's length, in ``[0, 1)``); ``size = +-10^k``, ``k`` in ``[-12, -2]``."""
+    op = draw(st.sampled_from(("remove", "add", "shift")))
+    where = draw(st.floats(0.0, 1.0, exclude_max=True))
+    size = draw(st.sampled_from((1, -1))) * 10.0 ** draw(st.integers(-12, -2))
+    return op, where, size

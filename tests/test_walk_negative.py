@@ -381,3 +381,46 @@ def test_a_velocity_zero_on_the_stick_slip_boundary_is_refused(name, which, kind
     enc = enclose_map(sc, x, v, max_prec=PREC, **radius)
     assert not enc.proved and "stick-slip boundary" in enc.reason, enc.reason
     assert enclose_map(sc, x, v, max_prec=PREC).proved
+
+
+# --- property: random states of random scenes, a random wrong log -----------------------------
+from hypothesis import given, settings  # noqa: E402
+
+from tests.strategies import log_perturbations, reference_cases  # noqa: E402
+
+
+def _perturb(case, op, where, size):
+    """The wrong log and the index of the wrong event (an empty log gets a turn added)."""
+    L, T = list(case.points), case.T_mp
+    if not L:
+        l, r = case.walls
+        return [Event("turn", case.points.t0 + mpmath.mpf(where) * T, (l + r) / 2, 0, 0)], 0
+    i = int(where * len(L))
+    if op == "remove":
+        return L[:i] + L[i + 1:], i
+    moved = event(L[i], t=L[i].t + mpmath.mpf(size) * T)
+    if op == "add":
+        return L[:i + 1] + [event(moved, t=L[i].t + abs(mpmath.mpf(size)) * T)] + L[i + 1:], i
+    return L[:i] + [moved] + L[i + 1:], i
+
+
+@settings(max_examples=20)
+@given(reference_cases(), log_perturbations())
+def test_property_a_perturbed_log_is_never_proved(case, perturbation):
+    """Any scene, any exact state, one event removed, added or moved (10^-12..10^-2 T): the
+    walk refuses, or proves the true log -- its balls hold the 60-digit reference -- and never
+    the perturbed one (unless the change lies inside a chatter run, whose bounces a tail bound
+    summarises; a chatter time is enclosed to ~1e-7 T only)."""
+    scene, x, v = case
+    c = Case(scene, x, v)
+    op, where, size = perturbation
+    wrong, i = _perturb(c, op, where, size)
+    try:
+        proved = c.walk(wrong)
+    except Unproved as exc:
+        assert _NAMED.search(str(exc)), str(exc)
+        return
+    assert_proof_is_the_truth(c, proved, f"{op} event {i}")
+    in_run = i in c.chatter_runs() or (c.points and c.points[min(i, len(c.points) - 1)].kind == "chatter")
+    assert in_run or not consistent(proved, wrong), f"{op} event {i} by {size} T: the wrong log proved"
+    assert op == "shift" or in_run, f"{op} event {i}: a log with an event {op}ed proved"
