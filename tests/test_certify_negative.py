@@ -17,7 +17,9 @@ a linear form of it).  So the zeros are known exactly:
   encloses 0; and its enclosure must contain the closed-form zero.
 
 Each false statement has a true twin one step away that the same call proves: the refusals
-are the certificate's, not a prover that says no to everything.
+are the certificate's, not a prover that says no to everything.  Last, the real motions'
+stacks (``motion.Flight``, ``motion.Rest``) are checked to be what the certificates assume: each
+entry the derivative of the one before (mean value theorem on short intervals).
 """
 from __future__ import annotations
 
@@ -323,3 +325,39 @@ def test_precision_is_untouched():
         with pytest.raises(Unproved):
             exclude(Closed(poly_from_roots([1, 1])), 0, 2)
     assert ctx.prec == before
+
+
+# --- the motions' derivative stacks (the contract the certificates rely on) ----------------
+from reference.enclosure import motion as motion_module  # noqa: E402
+from reference.enclosure.balls import BallModel, span  # noqa: E402
+from reference.scene import Scene  # noqa: E402
+
+STACK_SCENES = [
+    Scene(F=1, f="0.3", omega=1, l=0, r=20),
+    Scene(F=1, f="0.2", omega=1, l=0, r=1, damping="0.5"),
+    Scene(F=1, f=0, omega="2*pi", l=-1, r=1, damping="2"),
+]
+
+
+@pytest.mark.parametrize("scene", STACK_SCENES, ids=["undamped", "damped", "damped, frictionless"])
+def test_each_stack_entry_is_the_derivative_of_the_one_before(scene):
+    """Exclusion bounds ``g`` by ``g(c) + g'(c) [-r, r] + g''(I) [0, r^2/2]`` and Krawczyk uses
+    ``g'(H)``: both are sound only if ``stack[k + 1]`` is the derivative of ``stack[k]``.  The
+    mean value theorem says ``(s_k(b) - s_k(a)) / (b - a)`` lies in ``s_{k+1}([a, b])``; a stack
+    with a wrong derivative (a dropped damping term, a sign) fails it on short intervals."""
+    import random
+    rng = random.Random(24)
+    with workprec(PREC):
+        m = BallModel(scene)
+        for _ in range(6):
+            t0, x0, v0 = (from_fraction(Fraction(rng.randint(-4000, 4000), 1000)) for _ in range(3))
+            s = (1 if v0 > 0 else -1) if scene.has("friction") else 0
+            motions = [(motion_module.Flight(m, t0, x0, v0, s), 5),
+                       (motion_module.Rest(m, x0), 4)]
+            for mo, depth in motions:
+                a = from_fraction(Fraction(rng.randint(0, 3000), 1000))
+                b = a + arb(2) ** -30
+                lo, hi, piece = mo.stack(a), mo.stack(b), mo.stack(span(a, b))
+                for k in range(depth - 1):
+                    slope = (hi[k] - lo[k]) / (b - a)
+                    assert slope.overlaps(piece[k + 1]), (type(mo).__name__, k, slope, piece[k + 1])

@@ -12,6 +12,8 @@
   real multiplier straddling +-1, or ``det`` straddling 1 leave the type undecided.
 * A segment of fixed points with the wrong velocity: refused (``prove_segment``'s Newton
   polish switched off, as the only way to pose it).
+* A box proof (``enclose_map`` over a box: ``P'(Z)`` of the Krawczyk step) holds the images of
+  the box's corners, so a proof over a smaller box than the one claimed is caught.
 
 Each false statement has a true twin, one step away, that the same call proves.
 """
@@ -198,3 +200,34 @@ def test_a_segment_that_reaches_a_wall_is_refused():
     sc = scenes.scene("fig:many:wide/f=0.3")
     proof = prove_segment(sc, "18", "19.9", "0.5")
     assert not proof.proved and "without impacts" in proof.reason
+
+
+# --- boxes: what Krawczyk's P'(Z) rests on ----------------------------------------------------
+@pytest.mark.parametrize("name, x, v", [
+    ("fig:narrow", "0.3", "0.2"),
+    ("fig:narrow-with-friction", "0.27689242730111235", "-0.5784993511404171"),
+    ("effect:damping", "0.2", "0.3"),
+])
+def test_a_box_proof_holds_the_corners_of_its_box(name, x, v):
+    """``enclose_map`` over ``x +- 10^-30``, ``v +- 10^-30`` claims ``Phi`` and ``Phi'`` for every
+    start of the box; at a box this small the balls are barely wider than the image of the box
+    (``|Phi'| 10^-30``), so a proof over a smaller box than claimed misses the corners' images.
+    The corners against the point reference at 60 digits (error ~1e-55)."""
+    sc = scenes.scene(name)
+    r = mpmath.mpf("1e-30")
+    enc = enclose_map(sc, x, v, x_radius=r, v_radius=r)
+    assert enc.proved, enc.reason
+    with mpmath.workdps(60):
+        x0, v0 = mpmath.mpf(x), mpmath.mpf(v)
+    slack = arb(0, arb(10) ** -50)
+    for dx in (-1, 1):
+        for dv in (-1, 1):
+            with mpmath.workdps(60):
+                corner = (x0 + dx * r, v0 + dv * r)
+            xr, vr = reference.stroboscopic_map(sc, *corner, dps=60)
+            J = reference.jacobian(sc, *corner, dps=60)
+            with workprec(enc.prec):
+                assert enc.phi[0].overlaps(from_mpf(xr) + slack), (dx, dv, enc.phi[0], xr)
+                assert enc.phi[1].overlaps(from_mpf(vr) + slack), (dx, dv, enc.phi[1], vr)
+                assert all(enc.jacobian[i][j].overlaps(from_mpf(J[i][j]) + slack)
+                           for i in range(2) for j in range(2))
