@@ -51,7 +51,7 @@ STATES = [
     (scenes.scene("fig:many:wide/f=0.3"), "10.47213719194537815912224858428482513296",
      "-1.099498551433351625825033558234472341516", "turn, stick, slip, turn"),
     (scenes.scene("fig:many:wide/f=0.3"), "20", "0", "contact, release, turn"),
-    (scenes.scene("fig:many:wide/f=0.3"), "19.999", "0.01", "chatter, release"),
+    (scenes.scene("fig:many:wide/f=0.3"), "20", "1e-4", "chatter, release"),
     (scenes.scene("effect:restitution"), "0.5", "-2", "restitution"),
     (scenes.scene("effect:zeno"), "0.7", "0.1", "impacts with restitution, frictionless"),
     (DAMPED, "0.3", "0.2", "damped: impacts, turns, stick, slip"),
@@ -257,13 +257,15 @@ def test_bounces_inside_a_chatter_run_are_proved_only_as_the_truth():
     run: a removed, duplicated or relabelled bounce is refused, or the walk closes the run
     earlier -- a proof that must hold the 60-digit reference (run collapsed to its chatter
     event), never one with the wrong bounce."""
-    c = Case(scenes.scene("fig:many:wide/f=0.3"), "19.999", "0.01")
+    c = Case(scenes.scene("fig:many:wide/f=0.3"), "20", "1e-4")
     L = list(c.points)
     run = sorted(c.chatter_runs())
     assert len(run) > 20
-    for i in run[1::16]:
-        for events in (L[:i] + L[i + 1:], L[:i + 1] + [event(L[i], t=L[i].t + mpmath.mpf("1e-9"))] + L[i + 1:],
-                       L[:i] + [event(L[i], kind="turn" if L[i].kind == "impact" else "stick")] + L[i + 1:]):
+    for i in run[1::6]:               # bounces the walk follows, and ones its tail bound covers
+        later = event(L[i], t=L[i].t + mpmath.mpf("1e-9"))
+        relabelled = event(L[i], kind="turn" if L[i].kind == "impact" else "stick")
+        for events in (L[:i] + L[i + 1:], L[:i + 1] + [later] + L[i + 1:],
+                       L[:i] + [relabelled] + L[i + 1:]):
             try:
                 proved = c.walk(events)
             except Unproved:
@@ -424,3 +426,24 @@ def test_property_a_perturbed_log_is_never_proved(case, perturbation):
     in_run = i in c.chatter_runs() or (c.points and c.points[min(i, len(c.points) - 1)].kind == "chatter")
     assert in_run or not consistent(proved, wrong), f"{op} event {i} by {size} T: the wrong log proved"
     assert op == "shift" or in_run, f"{op} event {i}: a log with an event {op}ed proved"
+
+
+def test_a_chatter_run_accumulating_at_t_end_is_refused():
+    """The period ends inside the chatter run's tail bound (at the reference's accumulation
+    time): the state at ``t_end`` is either still bouncing or at rest -- undecided, refused.
+    The true twin, ``t_end`` a little later, is proved."""
+    c = Case(scenes.scene("fig:many:wide/f=0.3"), "20", "1e-4")
+    k = next(i for i, e in enumerate(c.points) if e.kind == "chatter")
+    t_c = next(e.t for e in c.reference_log if e.kind == "chatter")
+    with pytest.raises(Unproved, match="accumulates at t_end"):
+        c.walk(list(c.points)[:k + 1], t_end=t_c)
+    proved = c.walk(list(c.points)[:k + 1], t_end=t_c + mpmath.mpf("1e-3"))
+    assert proved[-1].kind == "chatter"
+
+
+@pytest.mark.parametrize("x, radius", [("20", "1e-20"), ("0", "1e-20"), ("20.000001", "0")])
+def test_a_box_reaching_outside_the_gap_is_refused(x, radius):
+    """A box of starts of which some lie beyond a wall (or a start outside the gap)."""
+    sc = scenes.scene("fig:many:wide/f=0.3")
+    enc = enclose_map(sc, x, "0.5" if x == "0" else "-0.5", x_radius=radius, max_prec=PREC)
+    assert not enc.proved and "gap" in enc.reason, enc.reason
