@@ -7,7 +7,9 @@ as ``enclose_map`` makes it) of a real scene, perturbed on purpose:
 * one event removed, one added (a duplicate a little later, a turn in mid-flight, an impact
   at the wall the flight moves away from), one of the wrong kind (turn for stick, impact for
   turn or graze, slip for release, ...): the walk must raise ``Unproved`` with a reason
-  that names the event (its kind or event function, and a time);
+  that names the event (its kind or its event function; most reasons give its time too);
+  only inside a chatter run may it prove instead, and then only the truth (the run's tail
+  bound covers a surplus bounce);
 * an event time shifted by ``1e-10 T``: the log's times are where the walk *starts* its
   Krawczyk search (module docstring of ``walk``: "roughly when"), so it may either refuse or
   prove the true event -- a ball that holds the reference's time at 60 digits and *not* the
@@ -25,7 +27,6 @@ from fractions import Fraction
 
 import mpmath
 import pytest
-from flint import arb
 
 import reference
 from cross_check import scenes
@@ -58,7 +59,7 @@ STATES = [
     (scenes.scene("stuck/F<f"), "0.4", "0.3", "stops for good"),
 ]
 IDS = [s[3] for s in STATES]
-#: what a reason must name: an event kind or an event function, and a time
+#: what a reason must name: an event kind or an event function
 _NAMED = re.compile(r"wall [lr]|velocity|slip|release|impact|turn|stick|contact|chatter|graz")
 
 
