@@ -231,3 +231,15 @@ def extreme_scenes(draw, position_forcing=False):
     l = draw(st.sampled_from(("0", f"-({gap})", draw(_log_decimal(-150, 150)))))
     k = f"1.5/({gap})" if position_forcing else None
     return Scene(F=F, f=f, omega=w, l=l, r=f"{l}+{gap}", damping=c, restitution=e, wavenumber=k)
+
+
+# --- enclosures: wrong point logs (tests/test_walk_negative.py, issue 24) -------------------
+@st.composite
+def log_perturbations(draw):
+    """``(op, where, size)``: a wrong point log from a right one -- ``remove`` an event, ``add``
+    a copy of one ``size`` T later, or ``shift`` one by ``size`` T -- at the event ``where``
+    (a fraction of the log's length, in ``[0, 1)``); ``size = +-10^k``, ``k`` in ``[-12, -2]``."""
+    op = draw(st.sampled_from(("remove", "add", "shift")))
+    where = draw(st.floats(0.0, 1.0, exclude_max=True))
+    size = draw(st.sampled_from((1, -1))) * 10.0 ** draw(st.integers(-12, -2))
+    return op, where, size
