@@ -130,7 +130,9 @@ def test_ten_periods_are_scored_against_the_reference():
 
 def test_cli_writes_markdown_and_json(tmp_path, capsys):
     out = tmp_path / "card"
-    status = cli.main(["score", "fast", "--scenes", "fig:narrow", "stuck/F<f", "--periods", "1", "--out", str(out)])
+    # in process: the worker process's path is tested on its own (tests/test_score_budget.py)
+    status = cli.main(["score", "fast", "--scenes", "fig:narrow", "stuck/F<f", "--periods", "1", "--out", str(out),
+                       "--in-process"])
     assert status == 0, capsys.readouterr().err
     data = json.loads((out / "scorecard.json").read_text())
     assert data["adapter"] == "fast" and data["kinds"]["impact"]["grade"] == "A"

@@ -200,13 +200,15 @@ class Walk:
             self.t, self.x, self.v = self.t_end, stack[0], stack[1]
             return True
         side = self._wall_side(ev.x)
-        if ev.kind == "impact" and side:
-            fired = next(fn for fn in fns if fn.name == motion.wall_name(side))
+        ahead = [fn for fn in fns if side and fn.name == motion.wall_name(side)]
+        if ev.kind == "impact" and ahead:
+            fired = ahead[0]
         elif ev.kind in ("turn", "stick") and not side and m.friction:
             fired = fns[1]
         else:
             raise Unproved(f"a {ev.kind} at t = {mpstr(ev.t)} at x = {mpstr(ev.x)} reached from "
-                           f"flight (a grazing touch or a turning point at a wall)")
+                           f"flight (a grazing touch, a turning point at a wall, or an impact at "
+                           f"the wall the flight moves away from)")
         guess = (from_mpf(ev.t) - self.t.mid()).mid()
         wide, tight = certify.root(flight, fired, guess, arb(0), what)
         if not tight < h_end:
@@ -320,8 +322,9 @@ class Walk:
             return True
         self.take(kind)
         if not fns:
-            raise Unproved(f"{what}: the point integrator leaves a rest proved to last "
-                           f"(|F cos(k x)| <= f at the rest)")
+            raise Unproved(f"{what}: |F cos(k x)| <= f at the rest (F <= f without position "
+                           f"forcing), so the rest never ends; the point integrator has a "
+                           f"{kind} at t = {mpstr(ev.t)}")
         guess = from_mpf(ev.t)
         if not guess > self.t.upper():
             raise Unproved(f"{what}: it ends as it begins (the force at the friction level: "
