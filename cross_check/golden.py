@@ -178,9 +178,6 @@ def ball_record(ball) -> list:
 
 def enclosure(sc, case) -> dict:
     """The proof record of one input (see the module docstring)."""
-    if sc.has("position_forcing"):
-        return {"proved": False, "reason": "position-dependent forcing: no closed-form flight "
-                "(its enclosure needs a validated ODE solver, which the suite does not have)"}
     x, v = (float(case.x), float(case.v)) if case.exact == "float64" else (case.x, case.v)
     enc = enclose_map(sc, x, v, rel_radius=tol("golden_enclosure_floor").rtol)
     if not enc.proved:

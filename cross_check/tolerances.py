@@ -478,3 +478,15 @@ TOLERANCES.update({
             "roundings of the result's own size remain (measured: within 10^(1 - dps)); "
             "a bracket at working precision loses log10(1/h) digits or more"),
 })
+
+# --- issue 25: validated flights under position forcing (reference.enclosure.lohner) -------
+TOLERANCES.update({
+    "validated_flight_radius": Tol(
+        rtol=1e-30, atol=0.0,
+        why="issue 25 acceptance: a validated flight over one period at 200 bits (60 digits) "
+            "has relative radius <= 1e-30. Each Taylor step's Lagrange remainder is below "
+            "2^-200 of the state's scale and the rounding of ~100-term series ~1e3 ulp; ~15 steps "
+            "a period in the Lohner QR frame grow the box by about |Phi'| <= ~10, so ~1e-57 is "
+            "expected: 1e-30 leaves 27 decades, and a lost remainder or a wrapping blow-up "
+            "(an axis box over a period) would not be caught by it, only by containment"),
+})

@@ -97,8 +97,8 @@ def _newton(scene, z, periods, phase, prec):
             return z, enc
         step = _matvec(_inverse(M), [enc.phi[0].mid() - z[0], enc.phi[1].mid() - z[1]])
         new = [(z[0] - step[0]).mid(), (z[1] - step[1]).mid()]
-        if new == z:
-            return z, enc
+        if new == z or all(abs(step[i]) <= 4 * enc.phi[i].rad() for i in range(2)):
+            return z, enc       # converged: the step is within the enclosure's own noise
         z = new
     return z, enc
 
@@ -196,7 +196,9 @@ def classify(scene, tr, det, kinds):
 
     ``det P' = 1`` exactly when the orbit has only flights and elastic impacts (no turn,
     stop or contact) and no damping: every such Table 1 factor has determinant 1 (flight
-    ``[[1, h], [0, 1]]``, reflection ``[[-1, 0], [*, -1]]``) -- a theorem, used as such.
+    ``[[1, h], [0, 1]]``, reflection ``[[-1, 0], [*, -1]]``; under position forcing the
+    flight factor solves ``V' = [[0, 1], [A_x, 0]] V``, trace 0, so ``det V = 1`` by
+    Liouville) -- a theorem, used as such.
     """
     conservative = (all(k == "impact" for k in kinds) and not scene.has("restitution")
                     and not scene.has("damping"))
