@@ -35,10 +35,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from cross_check import golden, scenefile
 from cross_check import scenes as scene_table
 from cross_check.agreement import compare
 from cross_check.score import adapters
-from cross_check.score.golden import KINDS, scene_cases
+from cross_check.score.golden import KINDS, golden_scene, scene_cases
 from cross_check.tolerances import tol
 
 TEN_DPS = 40          # the reference's digits for the ten-period truth
@@ -104,10 +105,10 @@ def _step_each(adapter, params, X, V, periods):
     return pairs, errors, seconds
 
 
-def score_scene(adapter, name: str, periods=(1, 10)) -> dict:
+def score_scene(adapter, name: str, periods=(1, 10), golden_dir=None) -> dict:
     """Every golden case of one scene: ``{"cases": [CaseScore], "seconds_per_period", "ten"}``."""
-    cases = scene_cases(name)
-    sc = scene_table.scene(name)
+    cases = scene_cases(name, golden_dir)
+    sc = golden_scene(name, golden_dir)
     params = dict(cases[0].params)
     X, V = np.array([c.x for c in cases]), np.array([c.v for c in cases])
     pairs, errors, seconds = _step_each(adapter, params, X, V, 1)
@@ -235,23 +236,25 @@ def _check_adapter(adapter):
         raise ValueError(f"adapter.effects has unknown effects {sorted(unknown)}; known: {adapters.EFFECTS}")
 
 
-def score(adapter, *, scenes=None, periods=(1, 10), progress=None) -> Scorecard:
+def score(adapter, *, scenes=None, periods=(1, 10), progress=None, golden_dir=None) -> Scorecard:
     """Score ``adapter`` (protocol: ``cross_check.score``) on ``scenes`` (default: every scene with
-    golden data); ``periods`` ``(1,)`` or ``(1, 10)``."""
+    golden data in ``golden_dir``, by default the shipped data); ``periods`` ``(1,)`` or ``(1, 10)``."""
     _check_adapter(adapter)
     if not set(periods) <= {1, 10} or 1 not in periods:
         raise ValueError(f"periods must be (1,) or (1, 10), got {periods!r}")
-    names = list(scene_table.SCENES) if scenes is None else list(scenes)
-    unknown = [n for n in names if n not in scene_table.SCENES]
+    have = golden.names_in(golden_dir)
+    names = have if scenes is None else list(scenes)
+    unknown = [n for n in names if n not in have]
     if unknown:
-        raise ValueError(f"unknown scene(s) {unknown}; known: {', '.join(scene_table.SCENES)}")
+        raise ValueError(f"unknown scene(s) {unknown}: no golden data for them in {golden.files(golden_dir)}; "
+                         f"it has: {', '.join(have)}")
     cases, per_scene, skipped = [], {}, {}
     for name in names:
-        lacking = scene_table.scene(name).effects - set(adapter.effects)
+        lacking = golden_scene(name, golden_dir).effects - set(adapter.effects)
         if lacking:
             skipped[name] = lacking
             continue
-        res = score_scene(adapter, name, periods)
+        res = score_scene(adapter, name, periods, golden_dir)
         cases += res["cases"]
         per_scene[name] = {"seconds_per_period": res["seconds_per_period"], "ten": res["ten"]}
         if progress:
@@ -283,15 +286,19 @@ def main(argv=None) -> int:
                     "Writes scorecard.md and scorecard.json; exit status 1 if a kind is flagged.")
     parser.add_argument("adapter", help="MODULE:NAME of an adapter, or fast | reference | scipy | heyoka")
     parser.add_argument("--scenes", nargs="+", metavar="NAME", choices=list(scene_table.SCENES),
-                        help="only these scenes (default: all with golden data)")
+                        help="only these built-in scenes (default: all with golden data)")
+    parser.add_argument("--golden-dir", metavar="DIR", default=None,
+                        help="golden data written by `golden` or `verify` (DIR/golden) instead of the shipped data")
+    scenefile.add_arguments(parser, "score on")
     parser.add_argument("--periods", nargs="+", type=int, default=[1, 10], choices=[1, 10],
                         help="horizons: 1, or 1 10 (default)")
     parser.add_argument("--out", default="scorecard", help="output directory (default: scorecard/)")
     args = parser.parse_args(argv)
     try:
+        names = (args.scenes or []) + scenefile.from_args(args)
         adapter = load_adapter(args.adapter)
         t0 = time.perf_counter()
-        card = score(adapter, scenes=args.scenes, periods=tuple(args.periods),
+        card = score(adapter, scenes=names or None, periods=tuple(args.periods), golden_dir=args.golden_dir,
                      progress=lambda m: print(f"[{time.perf_counter() - t0:6.1f}s] {m}", file=sys.stderr, flush=True))
     except (ValueError, TypeError, ImportError, AttributeError) as exc:
         print(f"score: {exc}", file=sys.stderr)

@@ -11,7 +11,9 @@ case (the float64 input of each; ``cross_check.score.golden.GoldenCase``)::
 ``cross_check.tolerances``), relative to ``max(1, |Phi|)``, widened by the exact map's own
 one-ulp floor where a graze makes it larger; a case in the near-grazing band is skipped with that
 reason (its itinerary is not fixed by a float64 start).  ``--golden-scenes NAME ...`` narrows the
-scenes; ``--golden-kinds KIND ...`` the kinds (``score.golden.KINDS``).
+scenes; ``--golden-kinds KIND ...`` the kinds (``score.golden.KINDS``); ``--golden-dir DIR`` takes
+the golden data of DIR (a user's own scenes, as ``python -m cross_check verify`` writes it) instead
+of the shipped data: ``pytest --golden-dir DIR`` in a user's CI.
 """
 from __future__ import annotations
 
@@ -46,6 +48,9 @@ def pytest_addoption(parser):
                     help="golden_case: only these scenes (default: all)")
     group.addoption("--golden-kinds", nargs="+", default=None, metavar="KIND",
                     help="golden_case: only these kinds of case (cross_check.score.golden.KINDS)")
+    group.addoption("--golden-dir", default=None, metavar="DIR",
+                    help="golden_case: the golden data in DIR (written by `python -m cross_check verify` or "
+                         "`golden`; default: the data shipped with the suite)")
 
 
 def pytest_generate_tests(metafunc):
@@ -53,7 +58,7 @@ def pytest_generate_tests(metafunc):
         return
     from cross_check.score.golden import all_cases
 
-    cases = all_cases(metafunc.config.getoption("golden_scenes"))
+    cases = all_cases(metafunc.config.getoption("golden_scenes"), metafunc.config.getoption("golden_dir"))
     kinds = metafunc.config.getoption("golden_kinds")
     if kinds:
         cases = [c for c in cases if c.kind in kinds]
