@@ -117,22 +117,53 @@ def force(scene: Scene, t):
     return F * mpmath.cos(w * t)
 
 
-def _backward_segment(scene, t1, x1, v1, s, t_stop):
+class Budget:
+    """Safe steps a construction may take in all (``KIND_BUDGET`` per kind of hard case): a
+    scene whose backward runs crawl (strong damping, a huge gap) gives up with a reason."""
+
+    def __init__(self, steps: int):
+        self.left = steps
+
+    def take(self):
+        if self.left <= 0:
+            raise ConstructionError("the construction's budget of safe steps is spent (KIND_BUDGET)")
+        self.left -= 1
+
+
+#: safe backward steps per kind of hard case, over all its candidate times (the paper's scenes
+#: take at most a few thousand)
+KIND_BUDGET = 30000
+
+
+def _bounds(scene, v, H):
+    """``(M_wall, M_velocity)``: bounds of ``|x''|`` and ``|v''|`` over a backward stretch of
+    length ``H`` from a point with velocity ``v`` (``|v| <= (|v| + (F + f) H) exp(c H)`` there)."""
+    F, f, w, _, _ = _params(scene)
+    c = scene.mpf("damping")
+    vmax = (abs(v) + (F + f) * H) * mpmath.exp(c * H)
+    tiny = mpmath.mpf(10) ** (-mpmath.mp.dps)               # F = 0: a linear function, any M > 0 holds
+    return max(F + f + c * vmax, tiny), max(F * w + c * (F + f + c * vmax), tiny)
+
+
+def _backward_segment(scene, t1, x1, v1, s, t_stop, budget=None):
     """Run the flight of sign ``s`` backward from ``t1`` to its forward start or ``t_stop``.
 
-    Returns ``(tau, kind)`` with kind ``"wall"``, ``"zero_velocity"`` or ``"stop"``.
+    Returns ``(tau, kind)`` with kind ``"wall"``, ``"zero_velocity"`` or ``"stop"``.  With damping
+    each step stays within ``1/c`` of where its bounds were taken (``_bounds``).
     """
-    F, f, w, l, r = _params(scene)
+    _, _, _, l, r = _params(scene)
     c = scene.mpf("damping")
     wall = l if s > 0 else r
     eps = mpmath.mpf(10) ** (-(mpmath.mp.dps - 8))
-    U = t1 - t_stop
-    vmax = (abs(v1) + (F + f) * U) * mpmath.exp(c * U)      # |v| on the stretch (Gronwall)
-    bounds = {"wall": F + f + c * vmax, "zero_velocity": F * w + c * (F + f + c * vmax)}
+    budget = budget or Budget(KIND_BUDGET)
     u = mpmath.mpf(0)
     for _ in range(_MAX_STEPS):
+        budget.take()
         t = t1 - u
         x, v, a = flight(scene, t1, x1, v1, s, t)
+        H = t - t_stop if c == 0 else min(t - t_stop, 1 / c)
+        M = _bounds(scene, v, H)
+        bounds = {"wall": M[0], "zero_velocity": M[1]}
         # G >= 0 on the safe side, dG/du = -dg/dt.
         G = {"wall": s * (x - wall), "zero_velocity": s * v}
         dG = {"wall": -s * v, "zero_velocity": -s * a}
@@ -153,11 +184,11 @@ def _backward_segment(scene, t1, x1, v1, s, t_stop):
             step = min(step, max(h, eps / 1000))
         if t - t_stop <= eps:
             return t_stop, "stop"
-        u += min(step, t - t_stop)
+        u += min(step, H)
     raise RuntimeError(f"backward flight: more than {_MAX_STEPS} steps from t={t1}, x={x1}, v={v1}, s={s}")
 
 
-def construct_backward(scene: Scene, t_star, x_star, v_before, s):
+def construct_backward(scene: Scene, t_star, x_star, v_before, s, budget=None):
     """The state at ``t = 0`` whose forward flight arrives at ``(t*, x*, v_before)`` with sign ``s``.
 
     Returns ``(x0, v0, log)``; ``log`` lists the forward events passed on the way
@@ -169,7 +200,7 @@ def construct_backward(scene: Scene, t_star, x_star, v_before, s):
     t, x, v = mpmath.mpf(t_star), mpmath.mpf(x_star), mpmath.mpf(v_before)
     log = []
     for _ in range(_MAX_EVENTS):
-        tau, kind = _backward_segment(scene, t, x, v, s, mpmath.mpf(0))
+        tau, kind = _backward_segment(scene, t, x, v, s, mpmath.mpf(0), budget)
         xt, vt, _ = flight(scene, t, x, v, s, tau)
         if not (l <= xt <= r):
             raise ConstructionError(f"backward flight leaves the gap at t={tau}")
@@ -199,9 +230,12 @@ def _first_valid(scene, candidates, left_state, name, kind, how):
     """Try candidate event times until the backward construction succeeds: ``(case, None)``, or
     ``(None, why)`` with the last obstacle met."""
     why = "no candidate time"
+    budget = Budget(KIND_BUDGET)
     for t_star in candidates:
+        if budget.left <= 0:
+            break
         try:
-            x0, v0, log = construct_backward(scene, t_star, *left_state(t_star))
+            x0, v0, log = construct_backward(scene, t_star, *left_state(t_star), budget=budget)
         except (ConstructionError, RuntimeError) as exc:
             why = f"{type(exc).__name__}: {exc}"
             continue
@@ -250,8 +284,11 @@ def construct(scene: Scene) -> tuple[list[HardCase], dict[str, str]]:
                 "x - r has two roots 1e-13 apart: impact at r with v- = |a| * 5e-14 (a = A - f < 0)")
         attempt("turn_at_wall", decel, lambda t: (r, mpmath.mpf(0), 1), "contact",
                 "v reaches 0 exactly at x = r with A < -f (contact and release at once, or a turn)")
-        attempt("impact_at_T", [T], at_r(lambda t: F / w / 2), "impact",
-                "impact at r at exactly t = T with v- = F/(2w)")
+        if F > 0:
+            attempt("impact_at_T", [T], at_r(lambda t: F / w / 2), "impact",
+                    "impact at r at exactly t = T with v- = F/(2w)")
+        else:
+            notes["impact_at_T"] = "no forcing (F = 0): the case's impact speed F/(2w) would be 0 (a tangency)"
         _friction_cases(scene, built, notes)
         _chatter_case(scene, built, notes)
         return [built[n] for n in NAMES if built.get(n) is not None], notes
@@ -275,8 +312,12 @@ def _friction_cases(scene, built, notes):
     if F <= f:
         built["at_rest"] = HardCase("at_rest", _dec((l + r) / 2), "0", "0", "stick",
                                     "explicit: v0 = 0 mid-gap with F <= f: the particle never moves")
-        built["stopping"] = HardCase("stopping", _dec((l + r) / 2), _dec(F / w), "0", "stick",
-                                     "explicit: v0 = F/w mid-gap with F <= f: it stops, then stays stopped")
+        if f == 0:
+            notes["stopping"] = "F = f = 0: nothing slows a moving particle down, it never stops"
+        else:
+            speed, text = (F / w, "F/w") if F > 0 else (f / w, "f/w")
+            built["stopping"] = HardCase("stopping", _dec((l + r) / 2), _dec(speed), "0", "stick",
+                                         f"explicit: v0 = {text} mid-gap with F <= f: it stops, then stays stopped")
     else:
         notes["at_rest"] = notes["stopping"] = "F > f: the force moves a particle at rest (no permanent rest)"
 
@@ -297,6 +338,9 @@ def _chatter_case(scene, built, notes):
         return
     if f == 0 and e == 1:
         notes["chatter"] = "f = 0 and e = 1: the bounces do not shrink (rho = 1), no chatter"
+        return
+    if e == 0:
+        notes["chatter"] = "restitution 0: an impact ends in contact at once, no run of bounces"
         return
     a, b = F + f, F - f
     rho = e * mpmath.sqrt(b / a)
@@ -325,9 +369,10 @@ def _chatter_case(scene, built, notes):
 def _stop_case(scene, t_star, mids, name, where):
     """``v`` reaches 0 at ``t_star`` at the first mid-gap position that a backward flight
     (``s = +1``, ``v = 0``) reaches from ``t = 0``; ``where`` says what the force is there."""
+    budget = Budget(KIND_BUDGET)
     for xm in mids:
         try:
-            x0, v0, log = construct_backward(scene, t_star, xm, 0, 1)
+            x0, v0, log = construct_backward(scene, t_star, xm, 0, 1, budget=budget)
         except (ConstructionError, RuntimeError):
             continue
         return HardCase(name, _dec(x0), _dec(v0), _dec(t_star), "stick",

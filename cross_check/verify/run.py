@@ -184,7 +184,7 @@ def main(argv=None) -> int:
         epilog="Scene files: TOML, one [[scene]] table per scene with name, F, f, omega, l, r and optionally "
                "restitution, damping, wavenumber; values numbers or exact strings ('0.8', '2*pi').  Example: "
                "cross_check/data/scenes/example.toml.  --quick: 4 sample states instead of 8, period-1 orbits "
-               "only (a 10 x 10 seed grid, at most 4 proofs), no 10-period comparisons or scores, fast against "
+               "only (a 10 x 10 seed grid, at most 8 proofs), no 10-period comparisons or scores, fast against "
                "the reference on the samples only (fast's scorecard still grades every hard case against its "
                "golden record), a coarser portrait.")
     parser.add_argument("files", nargs="*", metavar="SCENES.toml", help="scene files (cross_check.scenefile)")

@@ -50,8 +50,8 @@ class Depth:
     name: str
 
 
-FULL = Depth(8, 2, (1, 2, 3), (16, 16), 12, (1, 10), 120, 300, True, "full")
-QUICK = Depth(4, 0, (1,), (10, 10), 4, (1,), 48, 60, False, "quick")
+FULL = Depth(8, 2, (1, 2, 3), (16, 16), 16, (1, 10), 120, 300, True, "full")
+QUICK = Depth(4, 0, (1,), (10, 10), 8, (1,), 48, 60, False, "quick")
 #: sample states per golden task (a hard case has a task of its own: two inputs, and chatter is slow)
 SAMPLES_PER_TASK = 4
 
@@ -128,6 +128,15 @@ def _segments(found, tol):
     return groups
 
 
+def _proof(label, sc, p, period, seg) -> dict:
+    """The Krawczyk proof record of one orbit (``paper.claims.base.prove``); a proof that cannot
+    be attempted (position forcing has no closed-form flight) is a failed one, with the reason."""
+    try:
+        return prove(label, sc, p.x, p.v, k=period, segment=seg)
+    except (ValueError, RuntimeError, ArithmeticError) as exc:
+        return {"orbit": label, "periods": period, "proved": False, "reason": f"{type(exc).__name__}: {exc}"}
+
+
 def orbits(rec: dict, period: int, depth: Depth) -> list:
     """Period-``period`` orbits: found by Newton from a seed grid, deduplicated, classified,
     the first ``depth.max_proofs`` proved.  Each a dict (``as_dict`` of the point, ``dissip``,
@@ -149,7 +158,7 @@ def orbits(rec: dict, period: int, depth: Depth) -> list:
                "sticks": bool(kinds & {"stick", "contact"})}
         label = f"period {period} {what} {j}"
         if j < depth.max_proofs:
-            row["proof"] = prove(label, sc, p.x, p.v, k=period, segment=seg)
+            row["proof"] = _proof(label, sc, p, period, seg)
         else:
             row["proof"] = {"orbit": label, "proved": False,
                             "reason": f"not attempted: more than {depth.max_proofs} orbits of period {period}"}
