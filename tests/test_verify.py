@@ -24,7 +24,7 @@ distributed = pytest.importorskip("distributed", reason="verify runs on dask.dis
 
 EXAMPLE = golden.files().parent / "scenes" / "example.toml"
 STUCK = "F=1 f=1.2 omega=1 l=0 r=1"                       # F <= f, unnamed: "inline"
-FRICTIONLESS = "name=frictionless F=1 f=0 omega=1 l=0 r=2"
+FRICTIONLESS = "name=frictionless F=1 f=0 omega=2*pi l=-1 r=1"
 
 
 @pytest.fixture(scope="module")
@@ -141,6 +141,14 @@ def test_every_command_takes_user_scenes_and_rejects_bad_ones(tmp_path, capsys, 
     assert "field 'omega': Scene: omega must be > 0" in capsys.readouterr().err
     assert cli.main(command + ["--scene", "F=1 f=0.3 omega=1 l=0"]) == 2
     assert "missing field 'r'" in capsys.readouterr().err
+
+
+def test_golden_writes_a_user_scene_where_score_finds_it(tmp_path, capsys):
+    out = tmp_path / "g"
+    assert cli.main(["golden", "--scene", "name=resting " + STUCK, "--n-sample", "1", "--out", str(out)]) == 0
+    assert golden.names_in(out) == ["resting"] and golden.load("resting", out)["scene"]["f"] == "1.2"
+    assert cli.main(["score", "fast", "--golden-dir", str(out), "--periods", "1", "--out", str(tmp_path)]) == 0
+    assert not (golden.DEFAULT_DIR / "resting.json").exists()          # never into the shipped data
 
 
 def test_inline_scenes_are_read_exactly_and_named():

@@ -58,7 +58,10 @@ def pytest_generate_tests(metafunc):
         return
     from cross_check.score.golden import all_cases
 
-    cases = all_cases(metafunc.config.getoption("golden_scenes"), metafunc.config.getoption("golden_dir"))
+    try:
+        cases = all_cases(metafunc.config.getoption("golden_scenes"), metafunc.config.getoption("golden_dir"))
+    except ValueError as exc:             # no such directory, no golden file there, a scene it lacks
+        raise pytest.UsageError(f"golden_case: {exc}") from None
     kinds = metafunc.config.getoption("golden_kinds")
     if kinds:
         cases = [c for c in cases if c.kind in kinds]

@@ -3,8 +3,8 @@
 * shaded: ``Omega_pres`` (``|det Phi'| = 1``: no zero velocity on ``[0, T]``, white) and
   ``Omega_dissip`` (``|det Phi'| < 1``, grey), pixel by pixel (``dynamics.portraits.area_classes``);
   red where ``Phi'`` is not defined (a grazing start);
-* orbits of a grid of starts, coloured when Birkhoff-regular, grey when chaotic, their last
-  iterate in black when they reach ``Omega_dissip`` (``dynamics.portraits``, drawn as the paper's
+* orbits of a grid of starts, coloured when Birkhoff-regular, grey when chaotic, faint cyan when
+  they reach zero velocity (dissipative), with their last iterate in black (``dynamics.portraits``, drawn as the paper's
   figures are: ``paper.figures.base``);
 * the periodic points found (``verify.tasks.orbits``): filled markers where the Krawczyk proof
   holds, open ones where it does not; a proved segment of no-impact fixed points as a thick line.
@@ -30,7 +30,7 @@ def _shade(ax, sc, window, pixels):
     labels, _ = por.area_classes(sc, X.ravel(), V.ravel())
     rgb = np.ones(X.shape + (3,))
     lab = labels.reshape(X.shape)
-    rgb[lab == "dissip"] = (0.78, 0.78, 0.78)
+    rgb[lab == "dissip"] = (0.87, 0.87, 0.87)
     rgb[lab == "undefined"] = (1.0, 0.55, 0.55)
     ax.imshow(rgb, origin="lower", extent=(l, r, window[2], window[3]), aspect="auto", zorder=0,
               interpolation="nearest")
@@ -45,7 +45,9 @@ def _orbits(ax, sc, window, depth):
     cls, _ = por.orbit_classes(sc, xs, vs, first)
     draw_orbits(ax, xs, vs, cls)
     diss = cls == "dissip"
-    if diss.any():
+    if diss.any():                  # their iterates faint, where they end (the attractors) in black
+        ax.plot(xs[:, diss].ravel(), vs[:, diss].ravel(), ".", color="tab:cyan", ms=2.2, mew=0, alpha=0.8,
+                rasterized=True, zorder=1)
         ax.plot(xs[-1, diss], vs[-1, diss], "o", color="k", ms=1.5, zorder=5)
 
 
