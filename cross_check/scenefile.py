@@ -45,8 +45,9 @@ from cross_check import scenes
 REQUIRED = ("F", "f", "omega", "l", "r")
 OPTIONAL = ("restitution", "damping", "wavenumber")
 KEYS = ("name",) + REQUIRED + OPTIONAL
-#: a scene name: letters, digits and ``_ . : / = < > + -`` (``scenes.slug`` makes file names of it)
-NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.:/=<>+-]{0,79}")
+#: a scene name: 1 to 80 printable characters, no backslash, no space at either end (``scenes.slug``
+#: makes a file name of it: ``:`` and ``/`` are replaced)
+NAME = re.compile(r"[^\x00-\x20\\\x7f](?:[^\x00-\x1f\\\x7f]{0,78}[^\x00-\x20\\\x7f])?")
 _ALLOWED = f"required: {', '.join(('name',) + REQUIRED)}; optional: {', '.join(OPTIONAL)}"
 
 
@@ -83,8 +84,8 @@ def make_scene(table: dict, where: str, name: str | None = None) -> Scene:
     if name is None:
         raise SceneFileError(f"{where}: missing field 'name' ({_ALLOWED})")
     if not isinstance(name, str) or not NAME.fullmatch(name):
-        raise SceneFileError(f"{where}: field 'name' must be a string of 1 to 80 letters, digits or "
-                             f"'_ . : / = < > + -', starting with a letter or digit, got {name!r}")
+        raise SceneFileError(f"{where}: field 'name' must be a string of 1 to 80 printable characters "
+                             f"(no backslash, no space at either end), got {name!r}")
     missing = [k for k in REQUIRED if k not in table]
     if missing:
         raise SceneFileError(f"{where}: missing field {missing[0]!r} ({_ALLOWED})")

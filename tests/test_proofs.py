@@ -52,7 +52,7 @@ def test_prove_cli_golden_one_scene(tmp_path, capsys):
     out = tmp_path / "proofs.json"
     assert proofs.main(["--golden", "--scenes", "stuck/F<f", "effect:zeno", "--json", str(out)]) == 0
     text = capsys.readouterr().out
-    assert "golden: 30 of 30 inputs proved, 23 of 23 cases" in text
+    assert "golden: 32 of 32 inputs proved, 24 of 24 cases" in text
     data = json.loads(out.read_text())
     assert not data["golden"]["mismatch"] and not data["golden"]["outside"]
 

@@ -202,10 +202,11 @@ def construct_backward(scene: Scene, t_star, x_star, v_before, s, budget=None):
     for _ in range(_MAX_EVENTS):
         tau, kind = _backward_segment(scene, t, x, v, s, mpmath.mpf(0), budget)
         xt, vt, _ = flight(scene, t, x, v, s, tau)
-        if not (l <= xt <= r):
+        noise = mpmath.mpf(10) ** (-(mpmath.mp.dps - 8)) * (2 + abs(xt) + abs(vt))   # the segment's stop test
+        if not (l - noise <= xt <= r + noise):
             raise ConstructionError(f"backward flight leaves the gap at t={tau}")
         if kind == "stop":
-            return xt, vt, log
+            return min(max(xt, l), r), vt, log       # a wall reached within the noise floor is the wall
         if kind == "wall":
             if e == 0:
                 raise ConstructionError(f"restitution 0: the impact at t={tau} leaves v = 0, the speed "
