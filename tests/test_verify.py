@@ -62,7 +62,7 @@ def test_f_le_f_and_frictionless_have_different_hard_cases_and_the_report_says_w
     _, out = run
     built = {n: {c["name"] for c in golden.load(n, out)["cases"] if c["exact"] == "decimal"}
              for n in ("inline", "frictionless")}
-    assert built["inline"] == {"at_rest", "stopping"}
+    assert {"at_rest", "stopping"} <= built["inline"] and not built["inline"] & {"grazing", "sticking", "chatter"}
     assert {"grazing", "crossing_pair", "turn_at_wall"} <= built["frictionless"]
     assert not built["frictionless"] & {"sticking", "stick_slip_boundary", "chatter", "at_rest"}
     report = _report(out)
