@@ -168,10 +168,11 @@ def _backward_segment(scene, t1, x1, v1, s, t_stop, budget=None):
         G = {"wall": s * (x - wall), "zero_velocity": s * v}
         dG = {"wall": -s * v, "zero_velocity": -s * a}
         if u > 0:
+            noise = eps * (1 + abs(x) + abs(v))              # the evaluation noise floor
             for name in ("wall", "zero_velocity"):
-                if G[name] < -eps:
+                if G[name] < -noise:
                     raise RuntimeError(f"backward flight crossed {name} unseen at t={t}, x={x}, v={v}, s={s}")
-                if G[name] <= eps * (1 + abs(x) + abs(v)):   # the evaluation noise floor
+                if G[name] <= noise:
                     return t, name
         step = t - t_stop
         for name in ("wall", "zero_velocity"):
@@ -230,11 +231,12 @@ def _dec(value) -> str:
 def _first_valid(scene, candidates, left_state, name, kind, how):
     """Try candidate event times until the backward construction succeeds: ``(case, None)``, or
     ``(None, why)`` with the last obstacle met."""
-    why = "no candidate time"
+    why, tried = "no candidate time", 0
     budget = Budget(KIND_BUDGET)
     for t_star in candidates:
         if budget.left <= 0:
             break
+        tried += 1
         try:
             x0, v0, log = construct_backward(scene, t_star, *left_state(t_star), budget=budget)
         except (ConstructionError, RuntimeError) as exc:
@@ -243,7 +245,8 @@ def _first_valid(scene, candidates, left_state, name, kind, how):
         path = ", ".join(f"{k}@{mpmath.nstr(t, 6)}" for k, t in reversed(log)) or "no earlier event"
         return HardCase(name, _dec(x0), _dec(v0), _dec(t_star), kind,
                         f"{how}; backward from t*={mpmath.nstr(t_star, 12)} ({path})"), None
-    return None, f"no backward run from t* reached t = 0 unambiguously ({len(candidates)} tried; last: {why})"
+    return None, (f"no backward run from t* reached t = 0 unambiguously ({tried} of {len(candidates)} "
+                  f"candidate times tried; last: {why})")
 
 
 #: every hard case this module builds, in its order
