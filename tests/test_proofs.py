@@ -53,7 +53,7 @@ def test_prove_cli_golden_one_scene(tmp_path, capsys):
     out = tmp_path / "proofs.json"
     assert proofs.main(["--golden", "--scenes", "stuck/F<f", "effect:zeno", "--json", str(out)]) == 0
     text = capsys.readouterr().out
-    assert "golden: 20 of 20 inputs proved, 18 of 18 cases" in text
+    assert "golden: 32 of 32 inputs proved, 24 of 24 cases" in text
     data = json.loads(out.read_text())
     assert not data["golden"]["mismatch"] and not data["golden"]["outside"]
 

@@ -56,7 +56,12 @@ def test_sticking_starts_time_out_and_the_other_kinds_are_graded():
     (stuck,) = card.timeouts()
     assert stuck.id == "fig:narrow-with-friction/sticking" and stuck.failure_kind == "timeout"
     assert "no result within 0.5 s" in stuck.failure and CAUSES["sticking"] in stuck.failure
-    for kind in ("impact", "grazing", "chatter"):
+    # every other kind of the scene is graded as usual (its chatter case went with issue 23: the
+    # bounces there shrink too slowly, rho > 0.92, for a chatter case at 90 digits)
+    # (the crossing pair, root at kT, turn at a wall and stick-slip cases are band cases here: "-")
+    graded = {k for k, v in kinds.items() if v["band"] < v["cases"]} - {"sticking"}
+    assert {"impact", "grazing"} <= graded
+    for kind in graded:
         assert kinds[kind]["grade"] == "A" and kinds[kind]["failures"] == kinds[kind]["missed"] == 0, kind
     # two kills: the batch, the sticking start -- its event log was never asked for
     assert card.budget["restarts"] == 2 and card.complete and card.scenes["fig:narrow-with-friction"]["mode"] == \

@@ -40,10 +40,11 @@ import traceback
 
 import numpy as np
 
+from cross_check import golden, scenefile
 from cross_check import scenes as scene_table
 from cross_check.agreement import compare
 from cross_check.score import adapters, isolate, runner
-from cross_check.score.golden import easiest, scene_cases, timeout_message, warmup_case
+from cross_check.score.golden import easiest, golden_scene, scene_cases, timeout_message, warmup_case
 from cross_check.score.protocol import BadAdapter, load_adapter
 from cross_check.score.sheet import CaseScore, Scorecard
 
@@ -87,22 +88,23 @@ def _case_score(case, out: runner.Outcome) -> CaseScore:
     return s
 
 
-def score_scene(adapter, name: str, periods=(1, 10), *, run=None, budget=None, say=None) -> dict:
+def score_scene(adapter, name: str, periods=(1, 10), *, run=None, budget=None, say=None,
+                golden_dir=None) -> dict:
     """Every golden case of one scene: ``{"cases": [CaseScore], "seconds_per_period", "ten", "mode"}``.
     ``run``: a ``runner`` (default: one for ``adapter``, closed after); ``budget``: a
-    ``runner.Budget`` (default: the module's)."""
+    ``runner.Budget`` (default: the module's); ``golden_dir``: the golden data (default: shipped)."""
     own = run is None
     run = runner.runner(adapter) if own else run
     budget = budget or runner.Budget(CASE_TIMEOUT, FIRST_CALL_TIMEOUT)
     try:
-        cases = scene_cases(name)
-        sc = scene_table.scene(name)
+        cases = scene_cases(name, golden_dir)
+        sc = golden_scene(name, golden_dir)
         params = dict(cases[0].params)
         X, V = np.array([c.x for c in cases]), np.array([c.v for c in cases])
         names = [f"{c.id} [{c.kind}]" for c in cases]
         for method in ("step", "events") if run.meta["events"] else ("step",):
             if budget.first_time((method, sc.effects)):
-                w = warmup_case(sc.effects)
+                w = warmup_case(sc.effects, golden_dir) or cases[easiest(cases)]
                 runner.warm_up(run, method, w.params, w.x, w.v, budget, f"{w.id} [{w.kind}]", say)
         steps, seconds, mode = runner.run_starts(run, "step", params, X, V, 1, budget, names, say, easiest(cases))
         out = [_case_score(c, o) for c, o in zip(cases, steps)]
@@ -152,9 +154,10 @@ def _check_effects(meta, who):
 
 def score(adapter, *, scenes=None, periods=(1, 10), progress=None, case_timeout: float = CASE_TIMEOUT,
           first_call_timeout: float = FIRST_CALL_TIMEOUT, in_process: bool | None = None,
-          checkpoint=None) -> Scorecard:
+          checkpoint=None, golden_dir=None) -> Scorecard:
     """Score ``adapter`` (an object, or a ``MODULE:NAME`` spec; protocol: ``cross_check.score``) on
-    ``scenes`` (default: every scene with golden data); ``periods`` ``(1,)`` or ``(1, 10)``.
+    ``scenes`` (default: every scene with golden data in ``golden_dir``, by default the shipped
+    data); ``periods`` ``(1,)`` or ``(1, 10)``.
 
     A spec runs in a worker process killed at the budget, an object in process (budget checked
     after each call); ``in_process`` overrides (``False`` with an object: it must pickle).
@@ -163,10 +166,12 @@ def score(adapter, *, scenes=None, periods=(1, 10), progress=None, case_timeout:
     protocol violation is a ``BadAdapter`` (a ``TypeError``), bad arguments a ``ValueError``."""
     if not set(periods) <= {1, 10} or 1 not in periods:
         raise ValueError(f"periods must be (1,) or (1, 10), got {periods!r}")
-    names = list(scene_table.SCENES) if scenes is None else list(scenes)
-    unknown = [n for n in names if n not in scene_table.SCENES]
+    have = golden.names_in(golden_dir)
+    names = have if scenes is None else list(scenes)
+    unknown = [n for n in names if n not in have]
     if unknown:
-        raise ValueError(f"unknown scene(s) {unknown}; known: {', '.join(scene_table.SCENES)}")
+        raise ValueError(f"unknown scene(s) {unknown}: no golden data for them in {golden.files(golden_dir)}; "
+                         f"it has: {', '.join(have)}")
     budget = runner.Budget(case_timeout, first_call_timeout)
     say = progress or (lambda m: None)
     run = runner.runner(adapter, in_process, setup_budget=max(budget.first, isolate.SETUP_BUDGET))
@@ -179,13 +184,13 @@ def score(adapter, *, scenes=None, periods=(1, 10), progress=None, case_timeout:
         if checkpoint:
             checkpoint(card)
         for name in names:
-            lacking = scene_table.scene(name).effects - set(meta["effects"])
+            lacking = golden_scene(name, golden_dir).effects - set(meta["effects"])
             if lacking:
                 card.skipped[name] = lacking
                 continue
             t0 = time.perf_counter()
             say(f"score {meta['name']}: {name} ...")
-            res = score_scene(None, name, periods, run=run, budget=budget, say=say)
+            res = score_scene(None, name, periods, run=run, budget=budget, say=say, golden_dir=golden_dir)
             card.cases += res["cases"]
             card.scenes[name] = {k: res[k] for k in ("seconds_per_period", "ten", "mode")}
             card.budget["restarts"] = run.restarts
@@ -239,7 +244,10 @@ def build_parser() -> argparse.ArgumentParser:
                     "130/143 interrupted by SIGINT/SIGTERM (the scorecard so far is kept).")
     parser.add_argument("adapter", help="MODULE:NAME of an adapter, or fast | reference | scipy | heyoka")
     parser.add_argument("--scenes", nargs="+", metavar="NAME", choices=list(scene_table.SCENES),
-                        help="only these scenes (default: all with golden data)")
+                        help="only these built-in scenes (default: all with golden data)")
+    parser.add_argument("--golden-dir", metavar="DIR", default=None,
+                        help="golden data written by `golden` or `verify` (DIR/golden) instead of the shipped data")
+    scenefile.add_arguments(parser, "score on")
     parser.add_argument("--periods", nargs="+", type=int, default=[1, 10], choices=[1, 10],
                         help="horizons: 1, or 1 10 (default)")
     parser.add_argument("--out", default="scorecard", help="output directory (default: scorecard/)")
@@ -268,8 +276,8 @@ def _write(card: Scorecard, out: pathlib.Path):
 
 
 def main(argv=None) -> int:
-    """``python -m cross_check score ADAPTER [--scenes ...] [--periods 1 [10]] [--out DIR]
-    [--case-timeout S] [--first-call-timeout S] [--in-process] [--debug]``."""
+    """``python -m cross_check score ADAPTER [--scenes ...] [--scenes-file FILE] [--scene "..."]
+    [--golden-dir DIR] [--periods 1 [10]] [--out DIR] [--case-timeout S] [--first-call-timeout S] [--in-process] [--debug]``."""
     args = build_parser().parse_args(argv)
     out, last = pathlib.Path(args.out), []
     t0 = time.perf_counter()
@@ -292,8 +300,10 @@ def main(argv=None) -> int:
         return status
 
     try:
+        names = (args.scenes or []) + scenefile.from_args(args)
         with _stop_on_signals():
-            card = score(args.adapter, scenes=args.scenes, periods=tuple(args.periods), progress=say,
+            card = score(args.adapter, scenes=names or None, periods=tuple(args.periods), progress=say,
+                         golden_dir=args.golden_dir,
                          case_timeout=args.case_timeout, first_call_timeout=args.first_call_timeout,
                          in_process=args.in_process or None, checkpoint=checkpoint)
     except (KeyboardInterrupt, Stopped) as exc:

@@ -1,6 +1,7 @@
 """The golden cases as plain objects for scoring: a start, its exact answer, its kind.
 
-Each case of the shipped golden data (``cross_check.golden``) gives one ``GoldenCase`` for the
+Each case of the golden data (``cross_check.golden``: the shipped data, or any directory ``golden``
+or ``verify`` wrote, ``directory=``) gives one ``GoldenCase`` for the
 input a float64 integrator sees: the ``float64`` rounding of a decimal hard case, or the state
 itself when it is a float64 number.  Its ``kind`` says which regime the case tests:
 
@@ -22,7 +23,7 @@ from dataclasses import dataclass
 
 import mpmath
 
-from cross_check import golden, scenes
+from cross_check import golden
 
 #: the kinds in the scorecard's order
 KINDS = ("smooth flight", "impact", "grazing", "crossing pair", "root at t = kT", "turning point at a wall",
@@ -131,11 +132,17 @@ def _kind(case: dict, effects, events) -> str:
     return "impact" if "impact" in kinds else "smooth flight"
 
 
-def scene_cases(name: str) -> list[GoldenCase]:
-    """The golden cases of one scene, for the float64 input of each."""
-    data = golden.load(name)
+def golden_scene(name: str, directory=None):
+    """The scene of a golden file, from its exact record (the default directory: the shipped data)."""
+    return golden.scene_of(golden.load(name, directory), f"golden file of {name!r}")
+
+
+def scene_cases(name: str, directory=None) -> list[GoldenCase]:
+    """The golden cases of one scene, for the float64 input of each (from ``directory``, default the
+    shipped golden data; the parameters are the file's own record)."""
+    data = golden.load(name, directory)
     effects = frozenset(data["scene"]["effects"])
-    params = scenes.scene(name).floats()
+    params = golden.scene_of(data, f"golden file of {name!r}").floats()
     out = []
     for c in data["cases"]:
         inp = c["inputs"].get("float64", c["inputs"]["exact"])
@@ -161,17 +168,19 @@ def easiest(cases) -> int:
 
 
 @functools.lru_cache(maxsize=None)
-def warmup_case(effects: frozenset) -> GoldenCase:
-    """The easiest case (``easiest``) of every scene whose effects are ``effects``: what the first
-    call on a new set of effects runs on (a JIT compiles its code path there), so that even a scene
-    where every start sticks gets no start on the long first-call budget."""
-    picks = [cs[easiest(cs)] for name in scenes.SCENES if scenes.scene(name).effects == effects
-             for cs in [scene_cases(name)]]
-    if not picks:
-        raise ValueError(f"no scene with golden data has the effects {sorted(effects)}")
-    return min(picks, key=_difficulty)
+def warmup_case(effects: frozenset, directory=None) -> GoldenCase | None:
+    """The easiest case (``easiest``) of every scene whose effects are ``effects``, in ``directory``
+    and in the shipped data: what the first call on a new set of effects runs on (a JIT compiles its
+    code path there), so that even a scene where every start sticks gets no start on the long
+    first-call budget.  ``None`` if no scene there has these effects (the caller then warms up on
+    the scene's own easiest case)."""
+    dirs = (None,) if directory is None else (directory, None)
+    picks = [cs[easiest(cs)] for d in dirs for name in golden.names_in(d)
+             for cs in [scene_cases(name, d)] if cs and cs[0].effects == effects]
+    return min(picks, key=_difficulty) if picks else None
 
 
-def all_cases(names=None) -> list[GoldenCase]:
-    """Every golden case of the scenes ``names`` (default: all scenes with golden data)."""
-    return [c for name in (names or scenes.SCENES) for c in scene_cases(name)]
+def all_cases(names=None, directory=None) -> list[GoldenCase]:
+    """Every golden case of the scenes ``names`` (default: all scenes with golden data in
+    ``directory``, by default the shipped data)."""
+    return [c for name in (names or golden.names_in(directory)) for c in scene_cases(name, directory)]

@@ -11,7 +11,9 @@ case (the float64 input of each; ``cross_check.score.golden.GoldenCase``)::
 ``cross_check.tolerances``), relative to ``max(1, |Phi|)``, widened by the exact map's own
 one-ulp floor where a graze makes it larger; a case in the near-grazing band is skipped with that
 reason (its itinerary is not fixed by a float64 start).  ``--golden-scenes NAME ...`` narrows the
-scenes; ``--golden-kinds KIND ...`` the kinds (``score.golden.KINDS``).
+scenes; ``--golden-kinds KIND ...`` the kinds (``score.golden.KINDS``); ``--golden-dir DIR`` takes
+the golden data of DIR (a user's own scenes, as ``python -m cross_check verify`` writes it) instead
+of the shipped data: ``pytest --golden-dir DIR`` in a user's CI.
 
 **A time budget that a loop cannot ignore.**  The plugin does not own the integrator call (the
 test body does), so it runs the whole test function of each golden case in a worker process
@@ -89,6 +91,9 @@ def pytest_addoption(parser):
                     help="golden_case: only these scenes (default: all)")
     group.addoption("--golden-kinds", nargs="+", default=None, metavar="KIND",
                     help="golden_case: only these kinds of case (cross_check.score.golden.KINDS)")
+    group.addoption("--golden-dir", default=None, metavar="DIR",
+                    help="golden_case: the golden data in DIR (written by `python -m cross_check verify` or "
+                         "`golden`; default: the data shipped with the suite)")
     group.addoption("--golden-timeout", type=runner.positive_seconds, default=runner.CASE_TIMEOUT,
                     metavar="SECONDS", help=f"golden_case: seconds per test (default {runner.CASE_TIMEOUT:g}), "
                     "enforced by running it in a worker process that is killed when it runs over")
@@ -102,7 +107,10 @@ def pytest_generate_tests(metafunc):
         return
     from cross_check.score.golden import all_cases
 
-    cases = all_cases(metafunc.config.getoption("golden_scenes"))
+    try:
+        cases = all_cases(metafunc.config.getoption("golden_scenes"), metafunc.config.getoption("golden_dir"))
+    except ValueError as exc:             # no such directory, no golden file there, a scene it lacks
+        raise pytest.UsageError(f"golden_case: {exc}") from None
     kinds = metafunc.config.getoption("golden_kinds")
     if kinds:
         cases = [c for c in cases if c.kind in kinds]
@@ -112,8 +120,8 @@ def pytest_generate_tests(metafunc):
 class _Session:
     """The session's worker and what it has been given."""
 
-    def __init__(self, budget: float):
-        self.budget, self.worker = budget, isolate.Worker()
+    def __init__(self, budget: float, golden_dir=None):
+        self.budget, self.worker, self.golden_dir = budget, isolate.Worker(), golden_dir
         self.imported, self.here = set(), {}      # module paths in the worker; paths run here -> why
         self.warmed = set()                       # (module path, test[, effects]) seen
 
@@ -168,7 +176,7 @@ def pytest_pyfunc_call(pyfuncitem):
         return None
     config = pyfuncitem.config
     if _STATE not in config.stash:
-        config.stash[_STATE] = _Session(config.getoption("golden_timeout"))
+        config.stash[_STATE] = _Session(config.getoption("golden_timeout"), config.getoption("golden_dir"))
     state = config.stash[_STATE]
     job, why = (None, "--golden-in-process") if config.getoption("golden_in_process") else _job(pyfuncitem)
     if job is not None and job[0] not in state.here and _in_worker(state, job, case):
@@ -204,8 +212,11 @@ def _warm_up(state, job, case):
         return
     from cross_check.score.golden import warmup_case
 
+    warm = warmup_case(case.effects, state.golden_dir)
+    if warm is None:          # no case with these effects in the data: the case runs cold
+        return
     args = pickle.loads(job[4])
-    args["golden_case"] = _Checked(warmup_case(case.effects))
+    args["golden_case"] = _Checked(warm)
     try:
         state.worker.call(_RUN, *job[:4], pickle.dumps(args), budget=max(state.budget, runner.FIRST_CALL_TIMEOUT))
     except (isolate.CallTimeout, isolate.WorkerDied, isolate.RemoteError):
