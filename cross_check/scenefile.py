@@ -145,15 +145,22 @@ def from_record(record: dict, where: str) -> Scene:
     return make_scene(table, where)
 
 
-def collect(files=(), inline=()) -> list[Scene]:
+def collect(files=(), inline=(), check=None) -> list[Scene]:
     """The scenes of ``files`` then of the ``inline`` texts, checked together: no name twice, no
-    built-in name, no two names with the same file name (``scenes.slug``)."""
+    built-in name, no two names with the same file name (``scenes.slug``).  ``check(scene)``, if
+    given, may refuse a scene with a ``ValueError`` (a command's own requirement: ``verify`` runs
+    ``fast``, so a scene float64 cannot hold is bad input there), reported as the file's mistake."""
     found, where_of = [], {}
     for path in files or ():
         found += [(sc, f"{path}") for sc in read(path)]
     for i, text in enumerate(inline or ()):
         found.append((parse_inline(text, "inline" if i == 0 else f"inline-{i + 1}"), f"--scene {text!r}"))
     for sc, where in found:
+        if check is not None:
+            try:
+                check(sc)
+            except ValueError as exc:
+                raise SceneFileError(f"{where}: scene {sc.name!r}: {exc}") from None
         if sc.name in scenes.SCENES:
             raise SceneFileError(f"{where}: scene {sc.name!r}: field 'name': {sc.name!r} is a built-in scene's "
                                  "name; choose another")

@@ -40,6 +40,14 @@ def _engine(scene):
     return _engine_of(check_scene(scene))
 
 
+def validate_scene(scene) -> None:
+    """Check that ``fast`` can run ``scene``, before any state is given: ``TypeError`` if it is
+    not a ``reference.scene.Scene``, ``ValueError`` naming the parameter and the derived quantity
+    (``F/w^2``, ``T``, ``f T``, the event finder's bounds, ...) that float64 cannot hold
+    (``fast.params.check_ranges``).  Every public function makes the same check."""
+    _engine(scene)
+
+
 @functools.lru_cache(maxsize=256)
 def _engine_of(scene):
     if scene.has("position_forcing"):

@@ -119,6 +119,10 @@ MALFORMED = [
     ("[[scene]]\n" + GOOD.replace('name = "a"\n', ""), r"scene 1: missing field 'name'"),
     ('[[scene]]\n' + GOOD.replace("f = 0.3", 'f = "0.3 + x"'), r"field 'f': Scene: f must be a number"),
     ("[scene]\n" + GOOD, r"no scenes: write one \[\[scene\]\] table"),
+    # issue 29: a hostile value is refused before it is computed, a scene fast cannot hold by name
+    ('[[scene]]\n' + GOOD.replace("F = 1", 'F = "9**9**9**9"'), r"field 'F': Scene: F = .* MAX_POWER_EXPONENT"),
+    ("[[scene]]\n" + GOOD.replace("F = 1", "F = 1e300").replace("omega = 1", "omega = 1e-300"),
+     r"scene 'a': fast: F = 1\.0e\+300 \(from F = .*\) is above 1e\+100"),
 ]
 
 

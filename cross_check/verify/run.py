@@ -29,8 +29,11 @@ import sys
 import time
 import uuid
 
-from cross_check import golden, scenefile, scenes
-from cross_check.verify import document, tasks
+from cross_check import scenefile, scenes
+
+# ``golden``, ``verify.tasks`` and ``verify.document`` (mpmath, flint, scipy, matplotlib: about a
+# second of imports) are imported where they are used, after the scene files are read: a file with
+# a mistake, or a hostile value, is refused with exit 2 at once.
 
 ADAPTERS = ("fast", "scipy")
 RETRIES = 1
@@ -114,6 +117,8 @@ def compute(records, depth, *, scheduler=None, workers=2, progress=None, client=
     """Every task of every scene; ``{scene: {what: (result, seconds) or exception}}`` and the wall time.
 
     ``client``: an existing ``distributed.Client`` (tests); else one made by ``_client``."""
+    from cross_check.verify import tasks
+
     progress = progress or (lambda msg: None)
     own = contextlib.nullcontext(client) if client is not None else _client(scheduler, workers)
     with own as cl:
@@ -150,6 +155,9 @@ def compute(records, depth, *, scheduler=None, workers=2, progress=None, client=
 def write(out_dir, records, results, depth) -> tuple[pathlib.Path, list]:
     """Golden files, portraits, scorecards and ``report.md``; returns the report's path and the
     failed checks (``[(scene, check)]``)."""
+    from cross_check import golden
+    from cross_check.verify import document
+
     out = pathlib.Path(out_dir)
     (out / "golden").mkdir(parents=True, exist_ok=True)
     for rec in records:
@@ -200,13 +208,18 @@ def main(argv=None) -> int:
     if not 1 <= args.workers <= 256:
         parser.error("--workers must be in [1, 256]")
     try:
-        found = scenefile.collect(args.files, args.inline_scene)
+        import fast
+
+        found = scenefile.collect(args.files, args.inline_scene, check=fast.validate_scene)
     except scenefile.SceneFileError as exc:
         print(f"verify: {exc}", file=sys.stderr)
         return 2
     if not found:
         parser.error("give a scene file or --scene \"F=... f=... omega=... l=... r=...\"")
     scenefile.register_all(found)
+    from cross_check import golden
+    from cross_check.verify import tasks
+
     records = [golden.scene_record(sc) for sc in found]
     depth = tasks.QUICK if args.quick else tasks.FULL
     t0 = time.perf_counter()
