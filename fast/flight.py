@@ -113,8 +113,9 @@ def evaluate(P, h, v0, s, sn0, cs0):
 @kernel
 def evaluate_dd(P, st_v0h, st_v0l, s, snh, snl, csh, csl, hh, hl):
     """The flight in double-double at ``t0 + h`` (``h = hh + hl``) from the double-double
-    ``v0`` and start trig: ``(dx, v, acc, sin wt, cos wt)``, each a ``(hi, lo)`` pair
-    flattened: ``dxh, dxl, vh, vl, ah, al, snh, snl, csh, csl``."""
+    ``v0`` and start trig: ``(dx, v, acc, sin wt, cos wt)``, each a ``(hi, lo)`` pair but the
+    acceleration (its high part: ``acceleration`` gives the pair), flattened: ``dxh, dxl, vh,
+    vl, ah, snh, snl, csh, csl``."""
     qh, ql = dd.mul(P[p.W], P[p.W_LO], hh, hl)                      # theta
     Sh, Sl, Ch, Cl = dd.sincos(0.5 * qh, 0.5 * ql)
     a, b = dd.mul(csh, csl, Ch, Cl)
@@ -149,12 +150,11 @@ def evaluate_dd(P, st_v0h, st_v0l, s, snh, snl, csh, csl, hh, hl):
             vh, vl = dd.add(vh, vl, -a, -b)
             c, d = dd.mul(a, b, hh, hl)
             dxh, dxl = dd.add(dxh, dxl, -0.5 * c, -0.5 * d)
-    ah, al = _acceleration(P, s, n_ch, n_cl, vh, vl)
-    return dxh, dxl, vh, vl, ah, al, n_sh, n_sl, n_ch, n_cl
+    return dxh, dxl, vh, vl, acceleration_hi(P, s, n_ch, vh), n_sh, n_sl, n_ch, n_cl
 
 
-@kernel(inline=True)
-def _acceleration(P, s, csh, csl, vh, vl):
+@kernel
+def acceleration(P, s, csh, csl, vh, vl):
     """``x'' = F cos wt - s f (- c v)`` in double-double."""
     ah, al = dd.mul(P[p.F], P[p.F_LO], csh, csl)
     ah, al = dd.add(ah, al, -s * P[p.FF], -s * P[p.FF_LO])
@@ -162,6 +162,17 @@ def _acceleration(P, s, csh, csl, vh, vl):
         a, b = dd.mul(P[p.DAMP], P[p.DAMP_LO], vh, vl)
         ah, al = dd.add(ah, al, -a, -b)
     return ah, al
+
+
+@kernel(inline=True)
+def acceleration_hi(P, s, csh, vh):
+    """The high part of ``acceleration`` (the same roundings: the high part of a ``dd.mul``
+    is the product of the high parts, of a ``dd.add`` the rounded sum of the high parts)
+    without the low parts, which only a tangency check needs."""
+    ah = P[p.F] * csh + -s * P[p.FF]
+    if P[p.DAMP] > 0.0:
+        ah = ah + -(P[p.DAMP] * vh)
+    return ah
 
 
 @kernel
