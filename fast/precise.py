@@ -43,7 +43,7 @@ def flight_at(P, st, t_hi, t_lo):
     if P[p.DAMP] > 0.0:
         st[q.PATHS] = float(int(st[q.PATHS]) | q.PATH_DAMPED)
     return evaluate_dd(P, st[q.V0], st[q.V0LO], st[q.S], st[q.SN0], st[q.SN0LO], st[q.CS0],
-                       st[q.CS0LO], hh, hl)
+                       st[q.CS0LO], hh, hl, t_hi, t_lo)
 
 
 @kernel(inline=True)
