@@ -36,7 +36,8 @@ ROUNDS = 15
 PLAIN_COND = 1e4
 
 
-def _plain_constants(scene):
+def plain_constants(scene):
+    """The plain kernel's constants of ``scene`` (float64 values of its parameters)."""
     return pk.constants(*(scene.float(k) for k in ("F", "f", "omega", "l", "r", "restitution")))
 
 
@@ -44,25 +45,31 @@ def _fast(P, x, v, **kw):
     return batch.run(loop, P, x, v, P[fp.T], P[fp.T_LO], max_events=10_000_000, threads=1, **kw)
 
 
-def _check_agreement(scene, P, x, v, fast_res, plain_x, plain_v, plain_status):
-    assert np.all(plain_status == pk.OK), np.unique(plain_status, return_counts=True)
-    J = _fast(P, x, v, jac=True).J
-    cond = np.abs(J).max(axis=1)
-    chatter = (fast_res.paths & fs.PATH_CHATTER) != 0
+def disagreement(scene, x, v, plain_x, plain_v, plain_status):
+    """Where the plain kernel's one-period map ``plain_x, plain_v`` of ``(x, v)`` and fast's
+    disagree on the well-conditioned states (module docstring): ``(compared fraction, message
+    or None)``."""
+    if not np.all(plain_status == pk.OK):
+        return 0.0, f"plain kernel statuses {np.unique(plain_status, return_counts=True)}"
+    P = loop.params(scene)
+    res = _fast(P, x, v, jac=True)
+    cond = np.abs(res.J).max(axis=1)
+    chatter = (res.paths & fs.PATH_CHATTER) != 0
     well = np.isfinite(cond) & (cond <= PLAIN_COND) & ~chatter
-    assert well.mean() > 0.99, f"only {well.mean():.4f} of the states are compared"
-    err = np.maximum(np.abs(plain_x - fast_res.x), np.abs(plain_v - fast_res.v))[well]
+    err = np.maximum(np.abs(plain_x - res.x), np.abs(plain_v - res.v))[well]
     bound = tol("plain_kernel_vs_fast").atol * (1.0 + cond[well])
+    if np.all(err <= bound):
+        return well.mean(), None
     worst = np.argmax(err / bound)
-    assert np.all(err <= bound), (f"{int(np.sum(err > bound))} states disagree; worst error "
-                                  f"{err[worst]:.3g} at |Phi'| = {cond[well][worst]:.3g}")
+    return well.mean(), (f"{int(np.sum(err > bound))} states disagree; worst error "
+                         f"{err[worst]:.3g} at |Phi'| = {cond[well][worst]:.3g}")
 
 
 @pytest.mark.benchmark(group="per-core")
 @pytest.mark.parametrize("name", list(SCENES))
 def test_bench_per_core(benchmark, summary_line, name):
     scene, x, v = _batch(name, N)
-    P, K = loop.params(scene), _plain_constants(scene)
+    P, K = loop.params(scene), plain_constants(scene)
     px, pv, pst = np.empty(N), np.empty(N), np.empty(N, np.int64)
     pk.strobe(K, x[:10], v[:10], px[:10], pv[:10], pst[:10])       # compile outside the timing
     plain_times = []
@@ -72,11 +79,13 @@ def test_bench_per_core(benchmark, summary_line, name):
         pk.strobe(K, x, v, px, pv, pst)
         plain_times.append(time.perf_counter() - t)
 
-    res = benchmark.pedantic(_fast, args=(P, x, v), setup=plain_first, rounds=ROUNDS,
-                             warmup_rounds=1)
+    benchmark.pedantic(_fast, args=(P, x, v), setup=plain_first, rounds=ROUNDS,
+                       warmup_rounds=1)
     fast_s, plain_s = benchmark.stats.stats.min, min(plain_times)
     ratio = plain_s / fast_s
     benchmark.extra_info.update(fast_per_s=N / fast_s, plain_per_s=N / plain_s, ratio=ratio)
     summary_line(f"per-core {name}: fast {N / fast_s:.3g}/s, plain kernel {N / plain_s:.3g}/s, "
                  f"ratio {ratio:.3f} (best of {ROUNDS} interleaved rounds)")
-    _check_agreement(scene, P, x, v, res, px, pv, pst)
+    compared, problem = disagreement(scene, x, v, px, pv, pst)
+    assert problem is None, problem
+    assert compared > 0.99, f"only {compared:.4f} of the states are compared"
