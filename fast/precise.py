@@ -70,18 +70,22 @@ def _step(P, st, code, dxh, dxl, vh, vl, ah, csh, csl, convert):
     gh, gl = dd.add_d(-s * dxh, -s * dxl, st[q.D0])
     gh, gl = dd.norm(gh, gl)
     uh, ul = s * vh, s * vl
+    # the velocity rounded whole: near a velocity zero or a grazing impact it is a
+    # cancellation of O(1) terms, and the low part of the unnormalised pair can be as large
+    # as the high part (a step from the high part alone misses by ~ulp(terms) / |a|)
+    u = uh + ul
     a = s * ah
     d_acc = bounds(P, abs(st[q.V0]))[4]
-    disc = uh * uh + 2.0 * a * gh
-    if abs(disc) <= 1e-6 * uh * uh:          # near a tangency: the sign in double-double
+    disc = u * u + 2.0 * a * gh
+    if abs(disc) <= 1e-6 * u * u:            # near a tangency: the sign in double-double
         al = acceleration(P, s, csh, csl, vh, vl)[1]
         u2h, u2l = dd.mul(uh, ul, uh, ul)
         agh, agl = dd.mul(a, s * al, gh, gl)
         disc = dd.add(u2h, u2l, 2.0 * agh, 2.0 * agl)[0]
-    den = uh + math.sqrt(max(disc, 0.0))
+    den = u + math.sqrt(max(disc, 0.0))
     hits = disc >= 0.0 and den > 0.0
     d_imp = (gh + gh) / den if hits else math.inf
-    d_v = -vh / ah if ah != 0.0 else math.inf
+    d_v = -(s * u) / ah if ah != 0.0 else math.inf
     ok_imp = abs(d_imp) <= d_acc
     ok_v = abs(d_v) <= d_acc
     if convert:
