@@ -174,7 +174,9 @@ def _search(K, t0, x0, v0, s, sn0, cs0, t_end, tol):
                 d, ok = 0.0, True                  # at the root within rounding
             else:
                 d, ok = _predict(g, d1, d2, d3, M3[i], tol)
-            step = _forward(max(g, 0.0), d1, d2, M[i], M3[i], t_end - p) if g > 0.0 or leaving else 0.0
+            step = 0.0
+            if g > 0.0 or leaving:
+                step = _forward(max(g, 0.0), d1, d2, M[i], M3[i], t_end - p)
             steps = (step, steps[1]) if i == 0 else (steps[0], step)
             if d < best and p + d >= C:
                 best, kind, acc = d, IMPACT if i == 0 else VZERO, ok
