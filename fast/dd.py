@@ -127,7 +127,7 @@ with mpmath.workdps(40):
     P6_HI, P6_LO = -M6_HI, -M6_LO
 
 
-@kernel
+@kernel(inline=True)
 def _sincos_small(rh, rl):
     """``sin r``, ``cos r`` as double-doubles for ``|r| <= pi/64``."""
     r2h, r2l = mul(rh, rl, rh, rl)
@@ -144,7 +144,7 @@ def _sincos_small(rh, rl):
     return sh, sl, ch, cl
 
 
-@kernel
+@kernel(inline=True)
 def sincos(ah, al):
     """``(sin a, cos a)`` of the double-double ``a = ah + al``: ``(sh, sl, ch, cl)``."""
     k = np.rint(ah * INV_PI32)
@@ -156,7 +156,7 @@ def sincos(ah, al):
     rh, rl = add_d(rh, rl, -k * PI32_2)
     rh, rl = add_d(rh, rl, al - k * PI32_3)
     sh, sl, ch, cl = _sincos_small(rh, rl)
-    j = int(k) % 64
+    j = int(k) & 63
     a1, a2 = mul(SIN_HI[j], SIN_LO[j], ch, cl)
     b1, b2 = mul(COS_HI[j], COS_LO[j], sh, sl)
     c1, c2 = mul(COS_HI[j], COS_LO[j], ch, cl)
@@ -175,7 +175,7 @@ def sincos64(a):
     z = r * r
     s = r + r * z * (-1.0 / 6.0 + z * (S0 + z * (S1 + z * S2)))
     c = 1.0 - 0.5 * z + z * z * (C0 + z * (C1 + z * C2))
-    j = int(k) % 64
+    j = int(k) & 63
     return SIN_HI[j] * c + COS_HI[j] * s, COS_HI[j] * c - SIN_HI[j] * s
 
 

@@ -28,7 +28,10 @@ is ``O(h)`` (v) or ``O(h^2)`` (x) on its own: no cancellation of large terms as 
 ``evaluate`` is the float64 form (the search; its half-angle trig from ``fast.dd.sincos64``);
 ``evaluate_dd`` the same formulas in double-double (``fast.dd``: each term exact to ~1e-22
 of its size) from the double-double start state and time, used where a state is handed on:
-at every event and at the end of a run (``fast.precise``).
+at every event and at the end of a run (``fast.precise``).  Undamped with ``theta > 1/2`` it
+evaluates at the phase itself (``cos wt0 - cos wt - theta sin wt0`` as differences of
+``O(1)`` double-doubles, each within ~1e-22: the same accuracy where the terms are not
+small, at a third of the products).
 """
 from __future__ import annotations
 
@@ -40,6 +43,8 @@ from .jit import kernel
 
 #: D(theta) = theta^3 sum_k D_k theta^(2k) for theta <= 0.5
 D0_, D1_, D2_, D3_, D4_, D5_, D6_ = ((-1) ** k / math.factorial(2 * k + 3) for k in range(7))
+#: ``evaluate_dd`` of an undamped flight evaluates at the phase directly above this theta
+DIRECT_FROM = 0.5
 #: phi2(y) = sum_k (-1)^k y^k / (k+2)!  for y <= 0.5 (15 terms)
 PHI2 = tuple((-1) ** k / math.factorial(k + 2) for k in range(15))
 (Q0, Q1, Q2, Q3, Q4, Q5, Q6, Q7, Q8, Q9, Q10, Q11, Q12, Q13, Q14) = PHI2
@@ -111,11 +116,15 @@ def evaluate(P, h, v0, s, sn0, cs0):
 
 
 @kernel
-def evaluate_dd(P, st_v0h, st_v0l, s, snh, snl, csh, csl, hh, hl):
-    """The flight in double-double at ``t0 + h`` (``h = hh + hl``) from the double-double
-    ``v0`` and start trig: ``(dx, v, acc, sin wt, cos wt)``, each a ``(hi, lo)`` pair
-    flattened: ``dxh, dxl, vh, vl, ah, al, snh, snl, csh, csl``."""
+def evaluate_dd(P, st_v0h, st_v0l, s, snh, snl, csh, csl, hh, hl, th, tl):
+    """The flight in double-double at ``t = t0 + h`` (``h = hh + hl``, ``t = th + tl``) from
+    the double-double ``v0`` and start trig: ``(dx, v, acc, sin wt, cos wt)``, each a ``(hi,
+    lo)`` pair but the acceleration (its high part: ``acceleration`` gives the pair),
+    flattened: ``dxh, dxl, vh, vl, ah, snh, snl, csh, csl``.  An undamped flight with
+    ``theta > DIRECT_FROM`` takes ``_direct_dd``."""
     qh, ql = dd.mul(P[p.W], P[p.W_LO], hh, hl)                      # theta
+    if P[p.DAMP] == 0.0 and qh > DIRECT_FROM:
+        return _direct_dd(P, st_v0h, st_v0l, s, snh, snl, csh, csl, hh, hl, qh, ql, th, tl)
     Sh, Sl, Ch, Cl = dd.sincos(0.5 * qh, 0.5 * ql)
     a, b = dd.mul(csh, csl, Ch, Cl)
     c, d = dd.mul(snh, snl, Sh, Sl)
@@ -140,21 +149,48 @@ def evaluate_dd(P, st_v0h, st_v0l, s, snh, snl, csh, csl, hh, hl):
         a, b = dd.mul(csh, csl, S2h, S2l)
         c, d = dd.mul(snh, snl, Dh, Dl)
         a, b = dd.add(a, b, -c, -d)
-        dxh, dxl = dd.mul(P[p.FW2], P[p.FW2_LO], a, b)
-        a, b = dd.mul(st_v0h, st_v0l, hh, hl)
-        dxh, dxl = dd.add(dxh, dxl, a, b)
-        if P[p.FF] > 0.0:
-            sfh, sfl = s * P[p.FF], s * P[p.FF_LO]
-            a, b = dd.mul(sfh, sfl, hh, hl)                          # s f h
-            vh, vl = dd.add(vh, vl, -a, -b)
-            c, d = dd.mul(a, b, hh, hl)
-            dxh, dxl = dd.add(dxh, dxl, -0.5 * c, -0.5 * d)
-    ah, al = _acceleration(P, s, n_ch, n_cl, vh, vl)
-    return dxh, dxl, vh, vl, ah, al, n_sh, n_sl, n_ch, n_cl
+        dxh, dxl, vh, vl = _undamped_rest(P, st_v0h, st_v0l, s, hh, hl, a, b, vh, vl)
+    return dxh, dxl, vh, vl, acceleration_hi(P, s, n_ch, vh), n_sh, n_sl, n_ch, n_cl
 
 
 @kernel(inline=True)
-def _acceleration(P, s, csh, csl, vh, vl):
+def _direct_dd(P, v0h, v0l, s, snh, snl, csh, csl, hh, hl, qh, ql, th, tl):
+    """``evaluate_dd`` of an undamped flight with ``theta > DIRECT_FROM`` at the phase ``w t``
+    itself: ``sin wt, cos wt`` from one ``dd.sincos`` (absolute error < 1e-22), ``sin wt - sin
+    wt0`` and ``cos wt0 - cos wt - theta sin wt0`` as double-double differences.  Their
+    terms are ``O(1)`` here, so that is the half-angle form's accuracy (relative to the
+    terms) at a third of its products; below ``DIRECT_FROM`` the half-angle form keeps a
+    short flight's terms exact to their own, small, size."""
+    ph, pl = dd.mul(P[p.W], P[p.W_LO], th, tl)
+    n_sh, n_sl, n_ch, n_cl = dd.sincos(ph, pl)
+    a, b = dd.add(n_sh, n_sl, -snh, -snl)
+    vh, vl = dd.mul(P[p.FW], P[p.FW_LO], a, b)
+    vh, vl = dd.add(vh, vl, v0h, v0l)
+    a, b = dd.mul(qh, ql, snh, snl)
+    c, d = dd.add(csh, csl, -n_ch, -n_cl)
+    a, b = dd.add(c, d, -a, -b)
+    dxh, dxl, vh, vl = _undamped_rest(P, v0h, v0l, s, hh, hl, a, b, vh, vl)
+    return dxh, dxl, vh, vl, acceleration_hi(P, s, n_ch, vh), n_sh, n_sl, n_ch, n_cl
+
+
+@kernel(inline=True)
+def _undamped_rest(P, v0h, v0l, s, hh, hl, a, b, vh, vl):
+    """``dx = (F/w^2) (a + b) + v0 h - s f h^2 / 2`` and ``v - s f h`` in double-double, with
+    ``a + b = cos wt0 - cos wt - theta sin wt0``."""
+    dxh, dxl = dd.mul(P[p.FW2], P[p.FW2_LO], a, b)
+    a, b = dd.mul(v0h, v0l, hh, hl)
+    dxh, dxl = dd.add(dxh, dxl, a, b)
+    if P[p.FF] > 0.0:
+        sfh, sfl = s * P[p.FF], s * P[p.FF_LO]
+        a, b = dd.mul(sfh, sfl, hh, hl)                              # s f h
+        vh, vl = dd.add(vh, vl, -a, -b)
+        c, d = dd.mul(a, b, hh, hl)
+        dxh, dxl = dd.add(dxh, dxl, -0.5 * c, -0.5 * d)
+    return dxh, dxl, vh, vl
+
+
+@kernel
+def acceleration(P, s, csh, csl, vh, vl):
     """``x'' = F cos wt - s f (- c v)`` in double-double."""
     ah, al = dd.mul(P[p.F], P[p.F_LO], csh, csl)
     ah, al = dd.add(ah, al, -s * P[p.FF], -s * P[p.FF_LO])
@@ -162,6 +198,17 @@ def _acceleration(P, s, csh, csl, vh, vl):
         a, b = dd.mul(P[p.DAMP], P[p.DAMP_LO], vh, vl)
         ah, al = dd.add(ah, al, -a, -b)
     return ah, al
+
+
+@kernel(inline=True)
+def acceleration_hi(P, s, csh, vh):
+    """The high part of ``acceleration`` (the same roundings: the high part of a ``dd.mul``
+    is the product of the high parts, of a ``dd.add`` the rounded sum of the high parts)
+    without the low parts, which only a tangency check needs."""
+    ah = P[p.F] * csh + -s * P[p.FF]
+    if P[p.DAMP] > 0.0:
+        ah = ah + -(P[p.DAMP] * vh)
+    return ah
 
 
 @kernel

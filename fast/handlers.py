@@ -170,7 +170,7 @@ def impact(P, st, t, tl, vh, vl, trig, t_end, jac, ev):
         if s * A >= -f:                         # at rest on the wall, held there
             record(ev, st, q.K_CONTACT, t, W, 0.0, 0.0, 0)
             return on_wall(P, st, s, t, tl, trig, t_end, jac, ev)
-    elif P[p.CHATTER] != 0.0:
+    elif P[p.CHATTER] != 0.0 and not e * abs(vh) > P[p.U_CHATTER]:   # else chatter() says no
         done = chatter(P, st, t, tl, s, A, trig, e * abs(vh), t_end, jac, ev)
         if done >= 0:
             return done == 1

@@ -5,12 +5,14 @@ One state at a time, from ``t = 0`` to the double-double end ``t_end + t_end_lo`
 1. the start state is classified (an impact at ``t = 0``, at rest inside or on a wall) and
    handled at once (``fast.handlers``);
 2. the flight segment is searched for its next event with float64 trials
-   (``fast.flight.evaluate``: two libm calls each) certified by ``fast.roots.plan`` -- no
-   event is ever skipped, and a trial that lands on an accepted root is the event;
+   (``fast.flight.evaluate``) certified by ``fast.roots.plan`` -- no event is ever skipped,
+   and a trial that lands on an accepted root is the event; a trial predicted from far away
+   is first moved closer by ``fast.roots.refine``;
 3. the event is moved onto its exact time and state in double-double (``fast.precise``)
    and handled: a new segment, rest until a closed-form exit time, a summed chatter tail,
    or the end;
-4. a state certified at ``t_end`` in flight gets its final state in double-double.
+4. a state certified at ``t_end`` in flight gets its final state in double-double (a trial
+   at ``t_end`` is searched on that double-double flight: one evaluation serves both).
 
 Bounds: ``MAX_SEGMENT_ROUNDS`` search rounds per flight segment (a few normally; after a
 failed speculation the certified steps converge quadratically, linearly near a tangency),
@@ -32,8 +34,8 @@ from .handlers import finish, flight_matrix, handle
 from .jit import data_pointer, kernel
 from .output import store
 from .params import params  # noqa: F401  (the engine's params, fast.batch's contract)
-from .precise import at_end, at_event
-from .roots import CRAWL_ROUNDS, plan, plan_crawl
+from .precise import at_end, at_event, end_state, flight_at
+from .roots import CRAWL_ROUNDS, plan, plan_crawl, refine
 
 EPS = 2.0 ** -52
 MAX_SEGMENT_ROUNDS = 1000
@@ -66,12 +68,29 @@ def _start(P, st, x, v, jac):
 
 
 @kernel
-def _finish_flight(P, st, t_end, t_end_lo, jac):
-    """A state certified at ``t_end`` in flight: final flight matrix and state."""
+def _finish_flight(P, st, t_end, t_end_lo, jac, known, x, v):
+    """A state certified at ``t_end`` in flight: final flight matrix and state (``x, v``
+    where ``known``, else from ``at_end``)."""
     if jac:
         flight_matrix(P, st, ((t_end - st[q.T0]) - st[q.T0LO]) + t_end_lo)
-    x, v = at_end(P, st, t_end, t_end_lo)
+    if not known:
+        x, v = at_end(P, st, t_end, t_end_lo)
     finish(st, x, v)
+
+
+@kernel(inline=True)
+def _at_trial(P, st, b, t_end, t_end_lo):
+    """The flight at the trial ``b`` for the search: ``(dx, v, cos wt, sin wt, x_end, v_end,
+    end_lo)``.  At ``b = t_end`` it comes from the double-double flight there (its high
+    parts), whose state at the end is kept: a segment certified through ``t_end`` is then
+    not evaluated twice."""
+    if b == t_end:
+        dxh, dxl, vh, vl, _, snh, _, csh, _ = flight_at(P, st, t_end, t_end_lo)
+        xe, ve = end_state(P, st, dxh, dxl, vh, vl)
+        return dxh, vh, csh, snh, xe, ve, t_end_lo
+    dx, v, cs, sn = evaluate(P, (b - st[q.T0]) - st[q.T0LO], st[q.V0], st[q.S], st[q.SN0],
+                             st[q.CS0])
+    return dx, v, cs, sn, 0.0, 0.0, 0.0
 
 
 @kernel
@@ -80,8 +99,10 @@ def _from_start(P, st, t_end, t_end_lo, tol, jac):
     ``t_end`` is finished here.  Returns ``(code, t, tl)``: ``ATWALL`` (finished), ``NONE``
     (a trial is set) or an event accepted at once at the double-double time ``t + tl``."""
     code, est = plan(P, st, 0.0, st[q.V0], st[q.CS0], st[q.SN0], t_end, tol)
+    if code == q.NONE:
+        refine(P, st, st[q.T0], t_end)
     if code == q.ATWALL:
-        _finish_flight(P, st, t_end, t_end_lo, jac)
+        _finish_flight(P, st, t_end, t_end_lo, jac, False, 0.0, 0.0)
     t, tl = dd.two_sum(st[q.T0], est)
     return code, t, tl + st[q.T0LO]
 
@@ -126,15 +147,16 @@ def run_state(P, x, v, t_end, t_end_lo, jac, max_events, st, ev):
             return EVENT_BUDGET
         if st[q.NIT] > MAX_SEGMENT_ROUNDS:
             return LOOP_BOUND
-        end_lo = t_end_lo if st[q.TT] == t_end else 0.0
-        h = ((st[q.TT] - st[q.T0]) - st[q.T0LO]) + end_lo
-        dx, vv, cs, sn = evaluate(P, h, st[q.V0], st[q.S], st[q.SN0], st[q.CS0])
+        b = st[q.TT]
+        dx, vv, cs, sn, xe, ve, end_lo = _at_trial(P, st, b, t_end, t_end_lo)
         if st[q.NIT] <= CRAWL_ROUNDS:
             code, est = plan(P, st, dx, vv, cs, sn, t_end, tol)
         else:
             code, est = plan_crawl(P, st, dx, vv, cs, sn, t_end, tol)
-        if code == q.ATWALL:
-            _finish_flight(P, st, t_end, t_end_lo, jac)
+        if code == q.NONE:
+            refine(P, st, b, t_end)
+        elif code == q.ATWALL:
+            _finish_flight(P, st, t_end, t_end_lo, jac, b == t_end, xe, ve)
         t, tl = dd.two_sum(st[q.TT], est)
         tl += end_lo
 

@@ -38,10 +38,11 @@ from .dd import split_exact
 EPS = 2.0 ** -52
 _NAMES = ("F F_LO FF FF_LO W W_LO L R T T_LO E DAMP DAMP_LO PD PD_LO QD QD_LO C C_LO ALPHA "
           "SA SA_LO B1 B1_LO B2 B2_LO FW FW_LO FW2 FW2_LO M1 M1_3 M2 M2_3 NOISE1 NOISE2 D_ACC "
-          "FRICTION CHATTER XSCALE IW IW_LO ID ID_LO ID2 ID2_LO").split()
+          "FRICTION CHATTER XSCALE IW IW_LO ID ID_LO ID2 ID2_LO U_CHATTER").split()
 (F, F_LO, FF, FF_LO, W, W_LO, L, R, T, T_LO, E, DAMP, DAMP_LO, PD, PD_LO, QD, QD_LO, C, C_LO,
  ALPHA, SA, SA_LO, B1, B1_LO, B2, B2_LO, FW, FW_LO, FW2, FW2_LO, M1, M1_3, M2, M2_3, NOISE1,
- NOISE2, D_ACC, FRICTION, CHATTER, XSCALE, IW, IW_LO, ID, ID_LO, ID2, ID2_LO) = range(len(_NAMES))
+ NOISE2, D_ACC, FRICTION, CHATTER, XSCALE, IW, IW_LO, ID, ID_LO, ID2, ID2_LO,
+ U_CHATTER) = range(len(_NAMES))
 SIZE = len(_NAMES)
 #: ``F`` above ``f`` by less than this, relative (about 4 ulp), counts as ``F = f``: the force
 #: then exceeds the friction for windows of ``2 acos(f/F)/w < 2 sqrt(2^-49)/w ~ 6e-8/w`` only,
@@ -227,3 +228,26 @@ def _bounds(P):
     P[FRICTION] = float(f > 0)
     P[CHATTER] = float(f > 0 or P[E] < 1)
     P[XSCALE] = max(abs(l), abs(r))
+    P[U_CHATTER] = chatter_speed(Fv, f, w, period, P[XSCALE])
+
+
+def chatter_speed(F, f, w, period, xscale):
+    """A speed above which no impact starts a summed chatter tail (``fast.handlers.chatter``
+    rejects it), so that the common impact skips that test: after an impact leaving with speed
+    ``u`` against a push ``p = s A`` in ``(f, F]``, the bounce height ``u^2 / (2 (p + f)) >=
+    u^2 / (2 (F + f))`` and the tail's error bound ``min(2 F w d^2, 2 F w^2 (7 d / 8)^3) / (p -
+    f)`` with ``d = u / (p + f) >= u / (F + f)`` and ``p - f <= F - f`` exceed their thresholds
+    ``64 eps xscale`` and ``4 eps T`` once ``u`` passes each of three speeds; the largest,
+    doubled (the thresholds then hold with a factor 4 to spare for rounding), is returned.
+    ``inf`` where the forcing never pushes (``F w = 0``: the tail's bound is 0), 0 where it
+    never beats the friction (``F <= f``: no push ``p > f`` exists)."""
+    if not F > f:
+        return 0.0
+    Fw = F * w
+    if not Fw > 0.0:
+        return math.inf
+    thr = 4 * EPS * period * (F - f)
+    u_res = math.sqrt(2.0 * (F + f) * 64 * EPS * xscale)
+    u_sq = (F + f) * math.sqrt(thr / (2.0 * Fw))
+    u_cube = (F + f) / 0.875 * (thr / (2.0 * Fw * w)) ** (1.0 / 3.0)
+    return 2.0 * max(u_res, u_sq, u_cube)

@@ -31,7 +31,7 @@ import math
 from . import dd
 from . import params as p
 from . import state as q
-from .flight import evaluate_dd
+from .flight import acceleration, evaluate_dd
 from .jit import kernel
 from .roots import bounds
 
@@ -43,20 +43,26 @@ def flight_at(P, st, t_hi, t_lo):
     if P[p.DAMP] > 0.0:
         st[q.PATHS] = float(int(st[q.PATHS]) | q.PATH_DAMPED)
     return evaluate_dd(P, st[q.V0], st[q.V0LO], st[q.S], st[q.SN0], st[q.SN0LO], st[q.CS0],
-                       st[q.CS0LO], hh, hl)
+                       st[q.CS0LO], hh, hl, t_hi, t_lo)
 
 
-@kernel
-def at_end(P, st, t_end, t_end_lo):
-    """Float64 ``(x, v)`` of the current flight at ``t_end + t_end_lo`` (``x`` clipped to the
-    gap: rounding at a touch)."""
-    dxh, dxl, vh, vl, _, _, _, _, _, _ = flight_at(P, st, t_end, t_end_lo)
+@kernel(inline=True)
+def end_state(P, st, dxh, dxl, vh, vl):
+    """Float64 ``(x, v)`` at the end from the double-double flight values there (``x``
+    clipped to the gap: rounding at a touch)."""
     xh, xl = dd.add(st[q.X0], st[q.X0LO], dxh, dxl)
     return min(max(xh + xl, P[p.L]), P[p.R]), vh + vl
 
 
+@kernel
+def at_end(P, st, t_end, t_end_lo):
+    """Float64 ``(x, v)`` of the current flight at ``t_end + t_end_lo``."""
+    dxh, dxl, vh, vl, _, _, _, _, _ = flight_at(P, st, t_end, t_end_lo)
+    return end_state(P, st, dxh, dxl, vh, vl)
+
+
 @kernel(inline=True)
-def _step(P, st, code, dxh, dxl, vh, vl, ah, al, convert):
+def _step(P, st, code, dxh, dxl, vh, vl, ah, csh, csl, convert):
     """``(code, d)``: the event kind after the double-double tangency check (``convert``)
     and the step ``d`` onto it (0 where it would exceed ``d_acc``: a tangency the model
     cannot resolve keeps the float64 root)."""
@@ -64,17 +70,22 @@ def _step(P, st, code, dxh, dxl, vh, vl, ah, al, convert):
     gh, gl = dd.add_d(-s * dxh, -s * dxl, st[q.D0])
     gh, gl = dd.norm(gh, gl)
     uh, ul = s * vh, s * vl
+    # the velocity rounded whole: near a velocity zero or a grazing impact it is a
+    # cancellation of O(1) terms, and the low part of the unnormalised pair can be as large
+    # as the high part (a step from the high part alone misses by ~ulp(terms) / |a|)
+    u = uh + ul
     a = s * ah
     d_acc = bounds(P, abs(st[q.V0]))[4]
-    disc = uh * uh + 2.0 * a * gh
-    if abs(disc) <= 1e-6 * uh * uh:          # near a tangency: the sign in double-double
+    disc = u * u + 2.0 * a * gh
+    if abs(disc) <= 1e-6 * u * u:            # near a tangency: the sign in double-double
+        al = acceleration(P, s, csh, csl, vh, vl)[1]
         u2h, u2l = dd.mul(uh, ul, uh, ul)
         agh, agl = dd.mul(a, s * al, gh, gl)
         disc = dd.add(u2h, u2l, 2.0 * agh, 2.0 * agl)[0]
-    den = uh + math.sqrt(max(disc, 0.0))
+    den = u + math.sqrt(max(disc, 0.0))
     hits = disc >= 0.0 and den > 0.0
     d_imp = (gh + gh) / den if hits else math.inf
-    d_v = -vh / ah if ah != 0.0 else math.inf
+    d_v = -(s * u) / ah if ah != 0.0 else math.inf
     ok_imp = abs(d_imp) <= d_acc
     ok_v = abs(d_v) <= d_acc
     if convert:
@@ -94,12 +105,12 @@ def at_event(P, st, code, t_hi, t_lo):
     snh, snl, csh, csl)``: the refined double-double time, the state there (``x = W`` and
     ``v`` the velocity before an impact; ``v = 0`` at a velocity zero) and the trig of the
     phase there, all double-doubles."""
-    dxh, dxl, vh, vl, ah, al, snh, snl, csh, csl = flight_at(P, st, t_hi, t_lo)
-    code, delta = _step(P, st, code, dxh, dxl, vh, vl, ah, al, True)
+    dxh, dxl, vh, vl, ah, snh, snl, csh, csl = flight_at(P, st, t_hi, t_lo)
+    code, delta = _step(P, st, code, dxh, dxl, vh, vl, ah, csh, csl, True)
     t_hi, t_lo = dd.add_d(t_hi, t_lo, delta)
     if abs(delta) > 1e-12 * (1.0 + abs(t_hi)):
-        dxh, dxl, vh, vl, ah, al, snh, snl, csh, csl = flight_at(P, st, t_hi, t_lo)
-        delta = _step(P, st, code, dxh, dxl, vh, vl, ah, al, False)[1]
+        dxh, dxl, vh, vl, ah, snh, snl, csh, csl = flight_at(P, st, t_hi, t_lo)
+        delta = _step(P, st, code, dxh, dxl, vh, vl, ah, csh, csl, False)[1]
         t_hi, t_lo = dd.add_d(t_hi, t_lo, delta)
     # the trig moved by z = w delta (|z| <= w d_acc ~ 1e-5: the omitted z^4/24 < 1e-21)
     z = P[p.W] * delta

@@ -32,6 +32,13 @@ the certificate has just excluded) is replaced by that interval's end; after an 
 the root is bracketed between the certified end and the trial.  A function whose
 certificate covers a trial is not analysed there again.  Typical cost: 1-2 evaluations
 per impact, 2-3 per turn.
+
+Two shortcuts save rounds and work without touching what certifies (issue 27): ``refine``
+moves a prediction made from far away (a segment start) by Newton steps on the float64
+flight before it is tried, so that the first trial is usually accepted; and a function
+falling steeply towards its predicted root, when that root becomes the next trial, skips
+its forward step (``analyze(lazy=True)``, ``_settle``): the backward window at the trial
+certifies the way there (after a refuted trial, ``plan`` computes every step again).
 """
 from __future__ import annotations
 
@@ -39,12 +46,20 @@ import math
 
 from . import params as p
 from . import state as q
+from .flight import evaluate
 from .jit import kernel
 
 EPS = 2.0 ** -52
 TINY = 1e-300
 #: rounds of one segment after which ``plan`` widens its certified steps by ``_crawl``
 CRAWL_ROUNDS = 64
+#: ``analyze(..., lazy=True)`` leaves out the forward step of a function falling this steeply
+#: (``-g' >= LAZY_SLOPE M est``) towards its predicted root
+LAZY_SLOPE = 2.5
+#: ``refine`` moves a speculative trial predicted from farther than this (in periods) ...
+REFINE_FROM = 1e-2
+#: ... by at most this many Newton steps
+REFINE_STEPS = 2
 
 
 @kernel
@@ -70,43 +85,27 @@ def _crawl(res, g, g1, g2, M3, H_cap):
 
 
 @kernel(inline=True)
-def analyze(g, g1, g2, g3, M, M3, H_cap, tol, noise, d_acc, fresh, need_back):
-    """``(safe, est, acc, back)`` for one event function at a point (module docstring):
-    ``g`` has no root on ``[b, b + safe)``; ``est`` is the predicted root offset (``inf``
-    where the model has none); ``acc`` whether ``b + est`` is accepted as the event;
-    ``back`` a root-free window ``(b - back, b)`` when ``g > 0`` (only where
-    ``need_back``: a speculative trial; else 0), ``-|g'|/M`` when ``g <= 0`` (one crossing
-    in ``(b - |g'|/M, b]``) or ``nan`` (no certificate).  ``fresh``: ``g = 0`` at a segment
-    start that the flight leaves (``v = 0`` from rest).  With ``g3``, the third derivative,
-    the prediction is the quadratic model's root refined by one Newton step on the cubic
-    model: a trial then lands within ``~M4 d^4/24`` of the root instead of ``M3 d^3/6``."""
-    pos = g > 0.0 or fresh
-    gp = max(g, 0.0)
-    g1sq = g1 * g1
-    sq = math.sqrt(g1sq + (2.0 * M) * gp)
+def _forward(g1, g2, M, M3, H_cap, gp, g1sq, sq):
+    """The root-free step ``safe`` from ``g = gp > 0`` (module docstring: the local minorant
+    on ``[0, H]``, capped by ``H``; ``sq = sqrt(g'^2 + 2 M g)``)."""
     up = g1 > 0.0
-    neg = g1 < 0.0
     fwd = (g1 + sq) * (1.0 / M) if up else (gp + gp) / max(sq - g1, TINY)
     H = min(max(fwd + fwd, abs(g2) * (0.5 / M3)), H_cap)
     m = max(g2 - M3 * H, -M)
     dl = g1sq - (m + m) * gp
     sl = math.sqrt(max(dl, 0.0))
-    if (m < 0.0) or (neg and dl >= 0.0):
+    if (m < 0.0) or (g1 < 0.0 and dl >= 0.0):
         hl = (g1 + sl) / max(-m, TINY) if up else (gp + gp) / max(sl - g1, TINY)
     else:
         hl = math.inf
-    safe = min(hl, H) if pos else 0.0
-    if pos:
-        back = 0.0
-        if need_back:
-            back = (sq - g1) * (1.0 / M) if neg else (gp + gp) / max(sq + g1, TINY)
-    elif neg and g * (2.0 * M) >= -g1sq:
-        back = g1 * (1.0 / M)
-    else:
-        back = math.nan
-    if fresh:
-        return safe, math.inf, False, back
-    disc = g1sq - (g2 + g2) * g
+    return min(hl, H)
+
+
+@kernel(inline=True)
+def _predict(g, g1, g2, g3, pos, neg):
+    """``(est, disc)``: the quadratic model's root nearest to 0 in the crossing direction,
+    refined by one safeguarded Newton step on the cubic model (``inf``: none)."""
+    disc = g1 * g1 - (g2 + g2) * g
     sd = math.sqrt(max(disc, 0.0))
     if neg:
         est = (g + g) / (sd - g1) if disc >= 0.0 else g / (-g1)
@@ -120,11 +119,74 @@ def analyze(g, g1, g2, g3, M, M3, H_cap, tol, noise, d_acc, fresh, need_back):
         step = c / (g1 + d * (g2 + d * (0.5 * g3)))
         if abs(step) < 0.5 * abs(d):                # a safeguarded refinement
             est = d - step
-    ae = abs(est)
-    acc = neg and disc >= 0.0 and ae <= d_acc and M3 * ae * ae * ae <= (6.0 * tol) * (-g1)
-    if not acc and g1 <= 0.0 and abs(g) <= noise:
-        return safe, 0.0, True, back                  # a tangential zero: the event is here
-    return safe, est, acc, back
+    return est, disc
+
+
+@kernel(inline=True)
+def analyze(g, g1, g2, g3, M, M3, H_cap, tol, noise, d_acc, fresh, need_back, lazy):
+    """``(safe, est, acc, back)`` for one event function at a point (module docstring):
+    ``g`` has no root on ``[b, b + safe)``; ``est`` is the predicted root offset (``inf``
+    where the model has none); ``acc`` whether ``b + est`` is accepted as the event;
+    ``back`` a root-free window ``(b - back, b)`` when ``g > 0`` (only where
+    ``need_back``: a speculative trial; else 0), ``-|g'|/M`` when ``g <= 0`` (one crossing
+    in ``(b - |g'|/M, b]``) or ``nan`` (no certificate).  ``fresh``: ``g = 0`` at a segment
+    start that the flight leaves (``v = 0`` from rest).  With ``g3``, the third derivative,
+    the prediction is the quadratic model's root refined by one Newton step on the cubic
+    model: a trial then lands within ``~M4 d^4/24`` of the root instead of ``M3 d^3/6``.
+
+    ``lazy``: where ``g`` falls towards a predicted root at ``0 < est < H_cap`` steeply,
+    ``-g' >= LAZY_SLOPE M est``, the forward step is left out (``safe = -1``): a trial at that
+    root has a backward window (``>= 2 |g'(root)| / M`` or ``|g'(root)| / M``, ``|g'(root)| >=
+    |g'| - M est``) that reaches back to ``b`` by itself (``plan`` decides, ``_settle``)."""
+    pos = g > 0.0 or fresh
+    gp = max(g, 0.0)
+    g1sq = g1 * g1
+    sq = math.sqrt(g1sq + (2.0 * M) * gp)
+    neg = g1 < 0.0
+    if pos:
+        back = 0.0
+        if need_back:
+            back = (sq - g1) * (1.0 / M) if neg else (gp + gp) / max(sq + g1, TINY)
+    elif neg and g * (2.0 * M) >= -g1sq:
+        back = g1 * (1.0 / M)
+    else:
+        back = math.nan
+    est, acc = math.inf, False
+    if not fresh:
+        est, disc = _predict(g, g1, g2, g3, pos, neg)
+        ae = abs(est)
+        acc = neg and disc >= 0.0 and ae <= d_acc and M3 * ae * ae * ae <= (6.0 * tol) * (-g1)
+        if not acc and g1 <= 0.0 and abs(g) <= noise:
+            est, acc = 0.0, True                      # a tangential zero: the event is here
+        elif lazy and pos and neg and not acc and 0.0 < est < H_cap and -g1 >= LAZY_SLOPE * M * est:
+            return -1.0, est, acc, back
+    return (_forward(g1, g2, M, M3, H_cap, gp, g1sq, sq) if pos else 0.0), est, acc, back
+
+
+@kernel(inline=True)
+def _forward_at(g, g1, g2, M, M3, H_cap):
+    """``analyze``'s forward step alone (``g > 0``; the same operations, the same step)."""
+    g1sq = g1 * g1
+    return _forward(g1, g2, M, M3, H_cap, g, g1sq, math.sqrt(g1sq + (2.0 * M) * g))
+
+
+@kernel
+def _settle(b, t_end, r1, r2, lazy1, lazy2, g1, d1, dd1, M1, M1_3, g2, d2, dd2, M2, M2_3):
+    """``plan``'s outcomes ``r1, r2`` once a function was analysed lazily (``analyze``): it
+    keeps its forward step out only where its predicted root is the next trial and no other
+    root is accepted -- the backward window at that trial certifies the way there; otherwise
+    it gets its step back (a positive function with ``est > 0``: ``c = b + step``, ``p =
+    max(t, c)``, as ``_outcome``).  Compiled once, apart from the two copies of ``_plan``."""
+    if lazy1:
+        keep = not r2[3] and r1[4] <= (r2[4] if lazy2 else r2[2])
+        c = b + (0.0 if keep else _forward_at(g1, d1, dd1, M1, M1_3, t_end - b))
+        r1 = (c, r1[1], max(r1[4], c), r1[3], r1[4], True)
+        lazy1 = keep
+    if lazy2:
+        keep = not lazy1 and not r1[3] and r2[4] < r1[2]
+        c = b + (0.0 if keep else _forward_at(g2, d2, dd2, M2, M2_3, t_end - b))
+        r2 = (c, r2[1], max(r2[4], c), r2[3], r2[4], True)
+    return r1, r2
 
 
 @kernel(inline=True)
@@ -216,22 +278,29 @@ def _plan(P, st, dx, v, cs, sn, t_end, tol, crawl):
     r1 = (st[q.C1], True, st[q.P1], False, math.inf, True)
     r2 = (math.inf, True, math.inf, False, math.inf, True) if no_v else (
         st[q.C2], True, st[q.P2], False, math.inf, True)
+    lazy = st[q.NFAIL] == 0.0 and not crawl         # after a refuted trial: every step
+    lazy1 = lazy2 = False
+    g1 = n1 = g2 = n2 = 0.0
+    res1 = res2 = (0.0, 0.0, False, 0.0)
     for _ in range(2):
         if do1:
             g1 = st[q.D0] - s * dx
             n1 = min((8 * EPS) * (st[q.D0] + av0 * h + (0.5 * M1) * (h * h)), P[p.NOISE1])
-            res1 = analyze(g1, -s * v, -a, -a3, M1, M1_3, t_end - b, tol, n1, d_acc, False, spec)
+            res1 = analyze(g1, -s * v, -a, -a3, M1, M1_3, t_end - b, tol, n1, d_acc, False, spec,
+                           lazy)
             if crawl:
                 res1 = _crawl(res1, g1, -s * v, -a, M1_3, t_end - b)
+            lazy1 = res1[0] < 0.0
             r1 = _outcome(b, g1 > 0.0, res1, st[q.C1])
         if do2:
             g2 = s * v
             n2 = min((8 * EPS) * (av0 + M1 * h), P[p.NOISE2])
             fresh = g2 <= 0.0 and b == st[q.T0] and st[q.V0] == 0.0 and st[q.V0LO] == 0.0
             d2 = max(a, 0.0) if fresh else a
-            res2 = analyze(g2, d2, a3, a4, M2, M2_3, t_end - b, tol, n2, d_acc, fresh, spec)
+            res2 = analyze(g2, d2, a3, a4, M2, M2_3, t_end - b, tol, n2, d_acc, fresh, spec, lazy)
             if crawl:
                 res2 = _crawl(res2, g2, d2, a3, M2_3, t_end - b)
+            lazy2 = res2[0] < 0.0
             r2 = _outcome(b, g2 > 0.0 or fresh, res2, st[q.C2])
             if fresh and not r2[0] > b and b < t_end:    # it cannot leave rest in float64
                 r2 = (b, True, b, True, b, True)
@@ -241,6 +310,9 @@ def _plan(P, st, dx, v, cs, sn, t_end, tol, crawl):
         do2 = not do2 and not no_v and r1[3] and r1[4] > r2[0]
         if not (do1 or do2):
             break
+    if lazy1 or lazy2:
+        r1, r2 = _settle(b, t_end, r1, r2, lazy1, lazy2, g1, -s * v, -a, M1, M1_3, g2, a, a3, M2,
+                         M2_3)
     return _choose(st, b, t_end, r1, r2)
 
 
@@ -272,3 +344,47 @@ def _choose(st, b, t_end, r1, r2):
         st[q.TT] = min(min(st[q.C1], st[q.C2]), t_end)
         st[q.NFAIL] += 1.0
     return q.NONE, 0.0
+
+
+@kernel
+def refine(P, st, b, t_end):
+    """Move the speculative trial ``TT`` that ``plan`` predicted from ``b`` closer to its root.
+
+    A prediction from ``d = TT - b`` away (the cubic model refined by one Newton step) errs by
+    about ``|g^(4)| d^4 / (24 |g'|)``: from a segment start (``d`` a good part of a period) far
+    more than a trial that ``plan`` accepts (``d_acc``), so the round at ``TT`` would only
+    predict again.  Here the predicting function gets up to ``REFINE_STEPS`` Newton steps on
+    the exact float64 flight (``fast.flight.evaluate``, no certificate): each squares the
+    error, ``e -> |g''| e^2 / (2 |g'|)``; they stop once that is below ``d_acc / 2``, and a step
+    is not taken unless it converges (under half the distance before) and stays inside
+    ``(C_i, t_end)``.  The result is still only a trial: ``plan`` certifies it like any other
+    (its backward windows must reach the certified ends), so no event is skipped; a refined
+    trial only saves the round at the unrefined one.  Only where ``d > REFINE_FROM T``."""
+    tt = st[q.TT]
+    if st[q.SPEC] == 0.0 or not tt < t_end or not tt - b > REFINE_FROM * P[p.T]:
+        return
+    wall = tt == st[q.P1]
+    if not wall and tt != st[q.P2]:
+        return
+    s = st[q.S]
+    lo = max(st[q.C1] if wall else st[q.C2], b)
+    span = tt - b
+    for _ in range(REFINE_STEPS):
+        h = (tt - st[q.T0]) - st[q.T0LO]
+        dx, v, cs, sn = evaluate(P, h, st[q.V0], s, st[q.SN0], st[q.CS0])
+        a = s * (P[p.F] * cs) - P[p.FF] - P[p.DAMP] * (s * v)          # s x''
+        if wall:
+            g, g1, g2 = st[q.D0] - s * dx, -s * v, -a
+        else:
+            g, g1, g2 = s * v, a, -s * (P[p.F] * P[p.W]) * sn - P[p.DAMP] * a
+        if not g1 < 0.0:
+            break
+        step = g / -g1
+        t2 = tt + step
+        if not (abs(step) < 0.5 * span and lo < t2 < t_end):
+            break
+        tt, span = t2, abs(step)
+        if abs(g2) * (step * step) <= P[p.D_ACC] * -g1:
+            break
+    st[q.TT] = tt
+    st[q.SPEC] = 1.0 if tt > min(st[q.C1], st[q.C2]) else 0.0

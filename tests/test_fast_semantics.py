@@ -10,6 +10,7 @@ import pytest
 from scipy.optimize import brentq
 
 import fast
+from cross_check.tolerances import tol
 from reference.scene import Scene
 
 EPS = 2.0 ** -52
@@ -115,23 +116,35 @@ def test_chatter_accumulates_then_release():
 ])
 def test_determinant_is_product_of_turn_factors(scene, vmax):
     """det Phi' = prod over turns of (|A| - f)/(|A| + f) (impacts and flights have det 1);
-    0 with sticking or wall contact (paper, Section 4)."""
+    0 with sticking or wall contact (paper, Section 4).  Checked to claim_unit_det where the
+    float64 determinant can resolve it: ``J11 J22 - J12 J21`` of entries up to ``|J|`` loses
+    ``~2 eps |J|^2`` to cancellation, below ``claim_unit_det / 2`` only for ``|J| <= jmax``
+    (~1e3; a 50x more accurate Jacobian of a state with |J| = 2.7e3 still misses 1e-9 by its
+    rounding alone)."""
     rng = np.random.default_rng(12)
     x, v = rng.uniform(scene.float("l"), scene.float("r"), 150), rng.uniform(-vmax, vmax, 150)
     log = fast.events(scene, x, v)
-    det = np.linalg.det(fast.jacobian(scene, x, v))
+    J = fast.jacobian(scene, x, v)
+    det = np.linalg.det(J)
+    atol = tol("claim_unit_det").atol
+    jmax = math.sqrt(atol / (4 * 2.0 ** -52))
     F, f, w = scene.float("F"), scene.float("f"), scene.float("omega")
+    checked = flying = 0
     for i in range(x.size):
         kinds = log.kinds(i)
         if set(kinds) & {"stick", "contact", "chatter"}:
             assert det[i] == 0.0
             continue
+        flying += 1
         expect = 1.0
         for e in log[i]:
             if e.kind == "turn":
                 a = abs(F * math.cos(w * e.t))
                 expect *= (a - f) / (a + f)
-        assert abs(det[i] - expect) <= 1e-9 * max(1.0, abs(expect))
+        if np.abs(J[i]).max() <= jmax:
+            checked += 1
+            assert abs(det[i] - expect) <= atol * max(1.0, abs(expect))
+    assert checked >= 0.9 * flying
 
 
 def test_restitution_zero_rests_on_the_wall():
