@@ -35,6 +35,8 @@ MAX_PIECES = 4000
 #: Krawczyk: tries from the widest ball down (each 2^-RHO_STEP narrower), and tightenings.
 RHO_STEP = 6
 MAX_TIGHTEN = 200
+#: Epsilon-inflations of a Krawczyk ball when the ladder finds none (wide boxes of starts).
+INFLATE = 8
 
 
 class Unproved(Exception):
@@ -107,6 +109,8 @@ def root(motion, fn, guess, lo, what: str):
     widest = ((guess - lo) / 4).mid()
     floor = ((abs(guess) + 1) * arb(2) ** (-ctx.prec + 16)).mid()
     wide = _first_contracting(motion, fn, guess, Y, widest, arb(2) ** -RHO_STEP, floor)
+    if wide is None:        # a wide start box: the contracting balls lie between two rungs
+        wide = _inflated(motion, fn, guess, Y, lo, floor)
     if wide is None:
         raise Unproved(f"{what}: no Krawczyk ball around u = {guess.str(20)} for {fn.name} "
                        f"(a double zero, or the box is too wide)")
@@ -148,6 +152,38 @@ def _first_contracting(motion, fn, guess, Y, rho, factor, stop):
             return K
         rho = (rho * factor).mid()
     return None
+
+
+def _inflated(motion, fn, guess, Y, lo, floor):
+    """Epsilon-inflation (Rump): ``rho = 2 |Y g(guess)|``, then ``rho <- 2 |K(H) - guess|``
+    while ``K(H)`` is not inside ``H = guess +- rho`` (``INFLATE`` tries, ``H`` above ``lo``):
+    the ball a wide box of starts needs, which the ladder of ``2^RHO_STEP`` may step over."""
+    rho = (2 * abs(Y * _stack_value(motion, fn, guess, 0)) + floor).upper()
+    for _ in range(INFLATE):
+        H = arb(guess, rho)
+        if not H.lower() > lo:
+            return None
+        K = _krawczyk(motion, fn, H, Y)
+        if H.contains_interior(K):
+            return _widest(motion, fn, guess, Y, lo, rho, K)
+        grown = (2 * abs(K - guess)).upper()
+        if not grown.is_finite():
+            return None
+        rho = max(grown, (rho * 1.5).upper())
+    return None
+
+
+def _widest(motion, fn, guess, Y, lo, rho, K):
+    """The widest ball ``guess +- 2^j rho`` (``j <= INFLATE``) that still contracts (the zero
+    is unique on it, which leaves the exclusion less to prove next to the zero), or ``K``."""
+    wide = K
+    for _ in range(INFLATE):
+        rho = (2 * rho).upper()
+        H = arb(guess, rho)
+        if not H.lower() > lo or not H.contains_interior(_krawczyk(motion, fn, H, Y)):
+            break
+        wide = H
+    return wide
 
 
 def _tighten(motion, fn, H, Y):
