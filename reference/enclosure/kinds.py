@@ -57,6 +57,10 @@ def classify(scene, tr, det, kinds):
     if disc > 0:
         root = disc.sqrt()
         l1, l2 = (tr + root) / 2, (tr - root) / 2
+        if not (abs(l2) < 1 or abs(l2) > 1) and (tr > 0 or tr < 0):
+            # a wide trace: the small root as det / (the large one), no cancellation
+            big_root = l1 if tr > 0 else l2
+            l1, l2 = big_root, det / big_root
         big = [abs(l) > 1 for l in (l1, l2)]
         small = [abs(l) < 1 for l in (l1, l2)]
         if (big[0] and small[1]) or (big[1] and small[0]):
