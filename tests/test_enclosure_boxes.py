@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 import reference
 from reference.enclosure import ParamBox, enclose_map, prove_periodic
 from reference.enclosure.branches import claim_check, guess, section_ticks, symmetric_cover
-from reference.enclosure.continuation import cover, prove_interval
+from reference.enclosure.continuation import prove_interval
 from reference.scene import Scene
 
 DPS = 60

@@ -56,7 +56,7 @@ from reference.enclosure.params import ParamBox
 CLAIMS = {"x1-centre": (1, 1, "elliptic"), "x2-saddle": (2, 1, "saddle"),
           "period3-centre": (1, 3, "elliptic")}
 #: sub-boxes one box may use (boxes at the edge of the numerical region get BOUNDARY_LEAVES)
-MAX_LEAVES, BOUNDARY_LEAVES = 128, 16
+MAX_LEAVES, BOUNDARY_LEAVES = 512, 16
 CHUNK, RETRIES = 4, 3
 #: digits of the written midpoints; the section's angle is written to PHASE_DIGITS
 BALL_DIGITS, PHASE_DIGITS = 30, 40

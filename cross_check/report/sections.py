@@ -188,7 +188,22 @@ def claims_section(quick: bool, progress, claims=None) -> list[str]:
 
     out = ["| " + " | ".join(keys) + " |", "|" + "---|" * len(keys)]
     out += ["| " + " | ".join(cell(d, k) for k in keys) + " |" for d in rows]
-    return out + proofs_table(rows)
+    return out + proofs_table(rows) + intervals_table(rows)
+
+
+def intervals_table(rows) -> list[str]:
+    """The statements proved for every parameter of an interval (rows' ``proved_on``, read from
+    the shipped ``cross_check/data/proved_intervals.json``)."""
+    lines = [(d["id"], p) for d in rows for p in d.get("proved_on", [])]
+    if not lines:
+        return []
+    out = ["", "Proved on an interval (rigorous continuation: a chain of parameter boxes, each orbit "
+           "proved for every parameter of its box; `python -m cross_check prove --intervals` writes "
+           "`cross_check/data/proved_intervals.json`, which the tests re-prove in part):", "",
+           "| claim | proved on an interval | boxes |", "|---|---|---|"]
+    for cid, p in lines:
+        out.append(f"| {cid} | {p['statement'].replace('|', '/')} | {p.get('boxes', '-')} |")
+    return out
 
 
 def _multipliers_text(mults) -> str:
@@ -277,4 +292,33 @@ def atlas_section(atlas_dir, report_dir) -> list[str]:
         png = pathlib.Path(atlas_dir) / f"atlas_{claim}.png"
         if png.exists():
             lines += [f"![atlas {claim}]({os.path.relpath(png, report_dir)})", ""]
-    return lines
+    return lines + proved_atlas_lines(atlas_dir, report_dir)
+
+
+def proved_atlas_lines(atlas_dir, report_dir) -> list[str]:
+    """The proved atlas (``python -m cross_check prove --atlas``) when ``proved_atlas_meta.json``
+    exists: per claim the boxes proved for every parameter, against the numerical region."""
+    import json
+    import os
+    import pathlib
+
+    path = pathlib.Path(atlas_dir) / "proved_atlas_meta.json"
+    if not path.exists():
+        return []
+    meta = json.loads(path.read_text())
+    prov = meta["provenance"]
+    out = ["", f"Proved over boxes (`python -m cross_check prove --atlas`, {prov['grid']} x {prov['grid']} "
+           f"boxes, {prov['stats']['seconds']} s on {prov['stats']['workers']} workers): each claim proved "
+           "for every parameter of a box (`reference.enclosure`, parameters as balls).", "",
+           "| claim | boxes proved | inside the numerical region | proved inside | off the tr = -2 curve |",
+           "|---|---|---|---|---|"]
+    for claim, s in meta["summary"].items():
+        frac = "-" if s["fraction_inside"] is None else f"{100 * s['fraction_inside']:.1f}%"
+        off = "-" if s["fraction_off_tr_minus_2"] is None else f"{100 * s['fraction_off_tr_minus_2']:.1f}%"
+        out.append(f"| {claim} | {s['proved']} | {s['inside']} | {s['proved_inside']} ({frac}) | {off} |")
+    out.append("")
+    for claim in meta["summary"]:
+        png = pathlib.Path(atlas_dir) / f"proved_atlas_{claim}.png"
+        if png.exists():
+            out += [f"![proved {claim}]({os.path.relpath(png, report_dir)})", ""]
+    return out

@@ -32,7 +32,7 @@ from reference.enclosure.balls import from_mpf, from_number, workprec
 from reference.enclosure.maps import enclose_map
 from reference.enclosure.kinds import OrbitProof, classify
 from reference.enclosure.params import ParamBox
-from reference.enclosure.shooting import SECTION_GRID, Shooting
+from reference.enclosure.shooting import MORE_PIECES, PIECES, SECTION_GRID, Shooting
 
 #: Newton steps on the midpoints before the proof (each one enclosure of ``P`` at a point).
 NEWTON_STEPS = 30
@@ -112,10 +112,12 @@ def polish(scene, z, periods, phase, prec):
     return z, enclose_map(scene, z[0], z[1], **kw)
 
 
-def prove_periodic_box(box, x, v, *, periods=1, phase=None, prec=BOX_PREC) -> BoxOrbitProof:
+def prove_periodic_box(box, x, v, *, periods=1, phase=None, prec=BOX_PREC,
+                       pieces=(PIECES, MORE_PIECES)) -> BoxOrbitProof:
     """Prove, for every parameter of ``box``, a periodic orbit of ``Phi^periods`` near ``(x, v)``
     (module docstring).  ``phase=None`` picks the section (:func:`section`; ``(x, v)`` is then
-    the state at ``t = 0``), else ``(x, v)`` is the state at ``t = phase T``."""
+    the state at ``t = 0``), else ``(x, v)`` is the state at ``t = phase T``.  ``pieces``: the
+    multiple-shooting pieces per period tried in turn (``shooting``)."""
     if not isinstance(box, ParamBox):
         raise TypeError(f"box must be a ParamBox, got {type(box).__name__}")
     check_count("periods", periods, 1)
@@ -133,26 +135,33 @@ def prove_periodic_box(box, x, v, *, periods=1, phase=None, prec=BOX_PREC) -> Bo
             proof = _fail(box, periods, prec, f"Phi^{periods} at the midpoint parameters is not "
                                               f"proved: {enc_mid.reason}")
         else:
-            shooting = Shooting(box, mid, z, periods, phase, prec, enc_mid)
-
-            def fail(reason, radii):
-                return _fail(box, periods, prec, reason, radii)
-
-            def done(K, rho, J, kinds, sections, unique):
-                tr = J[0][0] + J[1][1]
-                det = J[0][0] * J[1][1] - J[0][1] * J[1][0]
-                kind, stability, mults = classify(box, tr, det, kinds)
-                return BoxOrbitProof(True, periods, point=(K[0], K[1]), radius=float(max(rho[:2])),
-                                     multipliers=mults, trace=tr, det=det, kind=kind,
-                                     stability=stability, itinerary=kinds, prec=prec, box=box,
-                                     radii=(float(rho[0]), float(rho[1])), sections=tuple(sections),
-                                     shooting_radii=tuple(float(r) for r in rho),
-                                     unique_in_point=unique)
-
-            proof = shooting.prove(fail, done)
-            proof.split = shooting.hint
+            for n_pieces in pieces:
+                shooting = Shooting(box, mid, z, periods, phase, prec, enc_mid, n_pieces)
+                proof = _shoot(box, shooting, periods, prec)
+                if proof.proved:
+                    break
     proof.phase, proof.box = phase, box
     proof.seconds = time.perf_counter() - start
+    return proof
+
+
+def _shoot(box, shooting, periods, prec):
+    """One multiple-shooting proof, as a :class:`BoxOrbitProof` (``split`` set on failure)."""
+    def fail(reason, radii):
+        return _fail(box, periods, prec, reason, radii)
+
+    def done(K, rho, J, kinds, sections, unique):
+        tr = J[0][0] + J[1][1]
+        det = J[0][0] * J[1][1] - J[0][1] * J[1][0]
+        kind, stability, mults = classify(box, tr, det, kinds)
+        return BoxOrbitProof(True, periods, point=(K[0], K[1]), radius=float(max(rho[:2])),
+                             multipliers=mults, trace=tr, det=det, kind=kind, stability=stability,
+                             itinerary=kinds, prec=prec, box=box, radii=(float(rho[0]), float(rho[1])),
+                             sections=tuple(sections), shooting_radii=tuple(float(r) for r in rho),
+                             unique_in_point=unique)
+
+    proof = shooting.prove(fail, done)
+    proof.split = shooting.hint
     return proof
 
 

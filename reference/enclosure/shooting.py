@@ -44,9 +44,10 @@ INFLATIONS = 6
 #: Sections are multiples of T / SECTION_GRID at least one grid step from every event.
 SECTION_GRID = 64
 #: Pieces per period (sections every T / PIECES): half periods, one impact each for the
-#: paper's symmetric orbits.  Shorter pieces were measured not to help (the event data's
-#: correlation, not the piece length, is what wraps).
-PIECES = 2
+#: paper's symmetric orbits.  ``MORE_PIECES`` is the second try of a box that fails with them
+#: (a strongly hyperbolic orbit: short pieces keep each piece's derivative tame; measured on
+#: x2 at w^2 R/F = 5: 191 sub-boxes instead of more than 1024).
+PIECES, MORE_PIECES = 2, 8
 
 
 def _vec(values):
@@ -61,14 +62,14 @@ def _radii(radii) -> str:
     return ", ".join(f"{r:.1e}" for r in radii)
 
 
-def cuts(phase, periods, times):
-    """The sections (units of ``T``): ``phase``, then every ``1 / PIECES`` of a period that is
+def cuts(phase, periods, times, pieces=PIECES):
+    """The sections (units of ``T``): ``phase``, then every ``1 / pieces`` of a period that is
     more than ``1 / SECTION_GRID`` away from every event time (``times``, units of ``T``),
     then ``phase + periods``."""
     margin = Fraction(1, SECTION_GRID)
     out = [phase]
-    for k in range(1, int(PIECES * periods)):
-        s = phase + Fraction(k, PIECES)
+    for k in range(1, int(pieces * periods)):
+        s = phase + Fraction(k, pieces)
         if all(abs(s - e) > margin for e in times):
             out.append(s)
     return out + [phase + periods]
@@ -78,13 +79,13 @@ class Shooting:
     """One multiple-shooting proof over ``box`` around the midpoint orbit through ``z`` (module
     docstring).  ``prove(fail, done)`` returns ``fail(reason, radii)`` or ``done(...)``."""
 
-    def __init__(self, box, mid, z, periods, phase, prec, enc_mid):
+    def __init__(self, box, mid, z, periods, phase, prec, enc_mid, pieces=PIECES):
         self.box, self.mid, self.periods, self.prec = box, mid, periods, prec
         varying = [name for name in PARAMS if box.width(name) > 0]
         self.names = tuple(varying) if all(n in PARAMETERS for n in varying) else ()
         T = 2 * arb.pi() / BallModel(mid).w
         times = [Fraction((ev.t / T).mid().str(30, radius=False)) for ev in enc_mid.events]
-        self.cuts = cuts(phase, Fraction(periods), times)
+        self.cuts = cuts(phase, Fraction(periods), times, pieces)
         self.z = [z]
         for s in self.cuts[1:-1]:
             enc = enclose_map(mid, z[0], z[1], periods=s - phase, phase=phase, prec=prec, max_prec=prec)
