@@ -9,7 +9,8 @@ Commands (each has its own ``--help``):
 * ``score``   -- score an integrator against the golden data, ``cross_check.score``;
 * ``sensitivity`` -- the suite's checks on a catalogue of faulty integrators, ``cross_check.sensitivity``;
 * ``atlas``   -- the claims over parameter space on Dask, ``cross_check.atlas``;
-* ``prove``   -- computer-assisted proofs: the golden data and the paper's orbits, ``cross_check.proofs``.
+* ``prove``   -- computer-assisted proofs: the golden data and the paper's orbits, ``cross_check.proofs``;
+* ``verify``  -- the whole V&V on the user's scenes (a TOML scene file), ``cross_check.verify``.
 
 Bad arguments give one line on stderr and exit status 2 (argparse's convention).
 """
@@ -27,6 +28,7 @@ COMMANDS = {
     "atlas": ("cross_check.atlas", "where each claim holds: the claims over (f/F, w^2 R/F), on Dask"),
     "sensitivity": ("cross_check.sensitivity", "which check catches which fault: a catalogue of faulty integrators"),
     "prove": ("cross_check.proofs", "computer-assisted proofs: golden data enclosures, the paper's periodic orbits"),
+    "verify": ("cross_check.verify", "the whole V&V on your scenes (SCENES.toml): golden data, proofs, orbits, scores"),
 }
 
 USAGE = "usage: python -m cross_check {" + ",".join(COMMANDS) + "} [options]"

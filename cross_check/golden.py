@@ -1,8 +1,12 @@
 """Golden data: the reference's answers on the paper's scenes, at 40 significant digits.
 
-``python -m cross_check golden [--out DIR] [--scenes NAME ...]`` writes one JSON file per scene
-(default ``cross_check/data/golden/``, shipped as package data: ``files()``
-reads it with ``importlib.resources``, so a ``pip install`` of the suite has it too).  Each file holds, for every state of interest
+``python -m cross_check golden [--out DIR] [--scenes NAME ...] [--scenes-file FILE] [--scene "..."]``
+writes one JSON file per scene (default ``cross_check/data/golden/``, shipped as package data:
+``files()`` reads it with ``importlib.resources``, so a ``pip install`` of the suite has it too;
+user scenes, from ``cross_check.scenefile``, go to ``golden/`` unless ``--out`` says otherwise).
+A golden directory is self-describing: each file records its scene's exact parameters, so
+``names_in``, ``load`` and ``register_dir`` read any directory (``--golden-dir`` of ``score``,
+``prove`` and the pytest plugin; ``verify`` writes one) the way they read the shipped one.  Each file holds, for every state of interest
 (``cross_check.scenes.states_of_interest``: a seeded sample and the constructed hard cases):
 
 * the state (strings; ``exact`` says whether they denote float64 numbers or decimals);
@@ -39,7 +43,7 @@ import time
 import mpmath
 
 from cross_check.agreement import compare
-from cross_check import scenes
+from cross_check import scenefile, scenes
 from cross_check.tolerances import tol
 from reference.enclosure import enclose_map
 from reference.enclosure.balls import decimal_ball, radius_text, workprec
@@ -178,9 +182,6 @@ def ball_record(ball) -> list:
 
 def enclosure(sc, case) -> dict:
     """The proof record of one input (see the module docstring)."""
-    if sc.has("position_forcing"):
-        return {"proved": False, "reason": "position-dependent forcing: no closed-form flight "
-                "(its enclosure needs a validated ODE solver, which the suite does not have)"}
     x, v = (float(case.x), float(case.v)) if case.exact == "float64" else (case.x, case.v)
     enc = enclose_map(sc, x, v, rel_radius=tol("golden_enclosure_floor").rtol)
     if not enc.proved:
@@ -191,33 +192,33 @@ def enclosure(sc, case) -> dict:
                 "jacobian": [[ball_record(b) for b in row] for row in enc.jacobian]}
 
 
-def scene_file(name: str, n_sample: int = N_SAMPLE, progress=None) -> dict:
-    """The golden record of one scene (raises ``GoldenError`` on a failed self-check)."""
-    sc = scenes.scene(name)
-    cases = []
-    for case in scenes.states_of_interest(name, n_sample):
-        inputs = {"exact": case}
-        if case.exact == "decimal":
-            inputs["float64"] = case.rounded()
-        entry = {"name": case.name, "exact": case.exact, "x": case.x, "v": case.v, "how": case.how,
-                 "constructed_kind": case.kind or None, "t_event": case.t_event or None, "inputs": {}}
-        for label, inp in inputs.items():
-            res, check = compute(sc, inp, GOLDEN_DPS), compute(sc, inp, CHECK_DPS)
-            why = disagreement(res, check, sc)
-            if why is not None:
-                raise GoldenError(f"{name} / {case.name} / {label}: dps {GOLDEN_DPS} vs {CHECK_DPS}: {why}")
-            entry["inputs"][label] = {"x": inp.x, "v": inp.v, **record(sc, res)}
-            if inp.exact == "float64":
-                entry["inputs"][label]["band"] = compare.reference_in_band(sc, inp)
-            entry["inputs"][label]["enclosure"] = enclosure(sc, inp)
-        cases.append(entry)
-        if progress:
-            progress(f"golden {name}: {case.name}")
+def case_entry(sc, case) -> dict:
+    """The golden record of one state of interest (every input of it), after the self-check
+    (``GoldenError`` names the scene, the case and the input whose two runs disagree)."""
+    inputs = {"exact": case}
+    if case.exact == "decimal":
+        inputs["float64"] = case.rounded()
+    entry = {"name": case.name, "exact": case.exact, "x": case.x, "v": case.v, "how": case.how,
+             "constructed_kind": case.kind or None, "t_event": case.t_event or None, "inputs": {}}
+    for label, inp in inputs.items():
+        res, check = compute(sc, inp, GOLDEN_DPS), compute(sc, inp, CHECK_DPS)
+        why = disagreement(res, check, sc)
+        if why is not None:
+            raise GoldenError(f"{sc.name} / {case.name} / {label}: dps {GOLDEN_DPS} vs {CHECK_DPS}: {why}")
+        entry["inputs"][label] = {"x": inp.x, "v": inp.v, **record(sc, res)}
+        if inp.exact == "float64":
+            entry["inputs"][label]["band"] = compare.reference_in_band(sc, inp)
+        entry["inputs"][label]["enclosure"] = enclosure(sc, inp)
+    return entry
+
+
+def document(sc, cases: list, n_sample: int = N_SAMPLE, generator: str = "python -m cross_check golden") -> dict:
+    """The golden file of a scene from its case entries (``case_entry``), with the provenance."""
     return {
         "format": FORMAT,
         "scene": scene_record(sc),
         "provenance": {
-            "generator": "python -m cross_check golden",
+            "generator": generator,
             "integrator": "reference (mpmath, event-driven closed-form flights)",
             "mpmath": mpmath.__version__,
             "mpmath_backend": mpmath.libmp.BACKEND,
@@ -236,6 +237,17 @@ def scene_file(name: str, n_sample: int = N_SAMPLE, progress=None) -> dict:
         },
         "cases": cases,
     }
+
+
+def scene_file(name: str, n_sample: int = N_SAMPLE, progress=None) -> dict:
+    """The golden record of one scene (raises ``GoldenError`` on a failed self-check)."""
+    sc = scenes.scene(name)
+    cases = []
+    for case in scenes.states_of_interest(name, n_sample):
+        cases.append(case_entry(sc, case))
+        if progress:
+            progress(f"golden {name}: {case.name}")
+    return document(sc, cases, n_sample)
 
 
 def _flint_version() -> str:
@@ -281,42 +293,103 @@ def generate(names=None, out_dir=DEFAULT_DIR, n_sample: int = N_SAMPLE, progress
     return paths
 
 
-def files():
-    """The shipped golden data directory (``importlib.resources``: works in a checkout and from a
-    wheel alike)."""
+def files(directory=None):
+    """A golden data directory: ``directory`` (or its ``golden/``, where ``verify --out DIR`` writes,
+    if ``directory`` itself holds no JSON), or by default the shipped one (``importlib.resources``:
+    works in a checkout and from a wheel alike)."""
+    if directory is not None:
+        base = pathlib.Path(directory)
+        if (base / "golden").is_dir() and not any(base.glob("*.json")):
+            return base / "golden"
+        return base
     from importlib import resources
     return resources.files("cross_check") / "data" / "golden"
 
 
 def load(name: str, directory=None) -> dict:
-    """Read the golden file of a scene (default: the shipped data, ``files()``)."""
-    base = files() if directory is None else pathlib.Path(directory)
-    return json.loads((base / (scenes.slug(name) + ".json")).read_text())
+    """Read the golden file of a scene (default: the shipped data, ``files()``); ``ValueError``
+    if the directory has none for that scene."""
+    path = files(directory) / (scenes.slug(name) + ".json")
+    if not path.is_file():
+        raise ValueError(f"no golden data for scene {name!r} in {files(directory)} (write it with "
+                         "`python -m cross_check golden` or `verify`)")
+    return json.loads(path.read_text())
+
+
+def names_in(directory=None) -> list[str]:
+    """The scenes a golden directory has files for: by default the built-in scenes (the shipped
+    data), else every ``*.json`` of ``directory`` with a ``scene`` record, by file name."""
+    if directory is None:
+        return [n for n in scenes.SCENES if (files() / (scenes.slug(n) + ".json")).is_file()]
+    base = files(directory)
+    if not base.is_dir():
+        raise ValueError(f"--golden-dir {directory}: not a directory")
+    out = []
+    for path in sorted(base.glob("*.json")):
+        try:
+            name = json.loads(path.read_text())["scene"]["name"]
+        except (ValueError, KeyError, TypeError):
+            continue                     # not a golden file (e.g. a scorecard): not ours to read
+        out.append(name)
+    if not out:
+        raise ValueError(f"--golden-dir {directory}: no golden files (*.json with a scene record) there")
+    return out
+
+
+def scene_of(data: dict, where: str = "golden file"):
+    """The scene a golden file was written for, from its exact record (``scenefile.from_record``)."""
+    return scenefile.from_record(data["scene"], where)
+
+
+def register_dir(directory) -> list[str]:
+    """Register every scene of a golden directory that is not a built-in (``scenes.register``)
+    and return all its scene names; a built-in name must carry the built-in's parameters."""
+    names = names_in(directory)
+    for name in names:
+        data = load(name, directory)
+        sc = scene_of(data, f"{files(directory)}/{scenes.slug(name)}.json")
+        if name in scenes.SCENES:
+            if scene_record(scenes.SCENES[name]) != data["scene"]:
+                raise ValueError(f"golden file of {name!r} in {directory}: parameters differ from the built-in scene's")
+            continue
+        scenes.register(sc)
+    return names
 
 
 def main(argv=None) -> int:
-    """CLI entry: ``golden [--out DIR] [--scenes NAME ...] [--n-sample N]``."""
+    """CLI entry: ``golden [--out DIR] [--scenes NAME ...] [--scenes-file FILE] [--scene "..."] [--n-sample N]``."""
     import argparse
 
     parser = argparse.ArgumentParser(prog="python -m cross_check golden",
-                                     description="write the golden data (reference at 40 digits)")
-    parser.add_argument("--out", default=str(DEFAULT_DIR), help="output directory (default cross_check/data/golden)")
+                                     description="write the golden data (reference at 40 digits, with a proof "
+                                                 "per input); exit 1 if a self-check fails (nothing written), "
+                                                 "2 on bad input")
+    parser.add_argument("--out", default=None, help="output directory (default: cross_check/data/golden for the "
+                        "built-in scenes, golden/ when user scenes are given)")
     parser.add_argument("--scenes", nargs="+", metavar="NAME", choices=list(scenes.SCENES),
-                        help="only these scenes (default: all)")
+                        help="only these built-in scenes (default: all, unless user scenes are given)")
+    scenefile.add_arguments(parser, "write golden data for")
     parser.add_argument("--n-sample", type=int, default=N_SAMPLE, help=f"sample states per scene ({N_SAMPLE})")
     args = parser.parse_args(argv)
     if args.n_sample < 0:
         parser.error("--n-sample must be >= 0")
+    try:
+        user = scenefile.from_args(args)
+    except scenefile.SceneFileError as exc:
+        print(f"golden: {exc}", file=sys.stderr)
+        return 2
+    names = (args.scenes or ([] if user else list(scenes.SCENES))) + user
+    out = args.out or (str(DEFAULT_DIR) if not user else "golden")
     if not compare.available("reference"):
         print("golden: the reference integrator is not available (reference.stroboscopic_map)", file=sys.stderr)
         return 2
     t0 = time.perf_counter()
     try:
-        paths = generate(args.scenes, args.out, args.n_sample,
+        paths = generate(names, out, args.n_sample,
                          progress=lambda msg: print(f"[{time.perf_counter() - t0:6.1f}s] {msg}", file=sys.stderr))
     except GoldenError as exc:
         print(f"golden: self-agreement failed, nothing written: {exc}", file=sys.stderr)
         return 1
     size = sum(p.stat().st_size for p in paths)
-    print(f"wrote {len(paths)} files ({size / 1024:.0f} KiB) to {args.out} in {time.perf_counter() - t0:.1f}s")
+    print(f"wrote {len(paths)} files ({size / 1024:.0f} KiB) to {out} in {time.perf_counter() - t0:.1f}s")
     return 0

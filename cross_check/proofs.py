@@ -10,7 +10,10 @@
   operator (``reference.enclosure.prove_periodic``): box radius, multipliers, type, or the
   reason a proof fails.
 
-Without either flag both run.  ``--json FILE`` writes what was proved.  Exit status 1 if a
+Without either flag both run (with ``--golden-dir`` or user scenes, ``--golden`` alone).
+``--golden-dir DIR`` re-proves the golden data of DIR (``golden`` or ``verify`` wrote it) instead of
+the shipped data; ``--scenes-file``/``--scene`` (``cross_check.scenefile``) name user scenes whose
+golden data it holds.  ``--json FILE`` writes what was proved.  Exit status 1 if a
 stored golden record disagrees with its proof or a digit lies outside its ball.
 
 * ``--atlas``: the claims proved over parameter boxes (``cross_check.atlas.proved``; its own
@@ -27,7 +30,7 @@ import time
 from decimal import Decimal
 from fractions import Fraction
 
-from cross_check import golden, scenes
+from cross_check import golden, scenefile, scenes
 from cross_check.paper import claims
 
 
@@ -39,14 +42,16 @@ def _digits_inside(text, ball) -> bool:
     return abs(Fraction(value) - Fraction(ball[0])) <= Fraction(ball[1]) + half_unit
 
 
-def prove_golden(names=None, progress=print) -> dict:
-    """Re-prove every golden input of the scenes ``names`` (default: all)."""
-    names = list(scenes.SCENES) if names is None else list(names)
+def prove_golden(names=None, progress=print, directory=None) -> dict:
+    """Re-prove every golden input of the scenes ``names`` (default: all) in the golden data of
+    ``directory`` (default: the shipped data; a directory carries its scenes' parameters)."""
+    names = golden.names_in(directory) if names is None else list(names)
     totals = {"inputs": 0, "proved": 0, "cases": 0, "cases_proved": 0, "mismatch": [],
               "outside": [], "widest": 0.0, "unproved": []}
     start = time.perf_counter()
     for name in names:
-        sc, data, t = scenes.scene(name), golden.load(name), time.perf_counter()
+        data, t = golden.load(name, directory), time.perf_counter()
+        sc = scenes.scene(name) if directory is None else golden.scene_of(data, f"golden file of {name!r}")
         proved_here = 0
         for case in data["cases"]:
             all_proved = True
@@ -104,17 +109,32 @@ def main(argv=None) -> int:
     ap.add_argument("--golden", action="store_true", help="re-prove every golden input and check the stored balls")
     ap.add_argument("--orbits", action="store_true", help="prove the periodic orbits the paper's claims rest on")
     ap.add_argument("--scenes", nargs="+", metavar="NAME", choices=list(scenes.SCENES),
-                    help="--golden: only these scenes")
+                    help="--golden: only these built-in scenes")
+    ap.add_argument("--golden-dir", metavar="DIR", default=None,
+                    help="--golden: the golden data of DIR (written by `golden` or `verify`), not the shipped data")
+    scenefile.add_arguments(ap, "--golden: prove the golden data of")
     ap.add_argument("--json", metavar="FILE", help="write what was proved as JSON")
     ap.add_argument("--atlas", action="store_true",
                     help="the proved atlas over (f/F, w^2 R/F) boxes, on Dask (see prove --atlas --help)")
     ap.add_argument("--intervals", action="store_true",
                     help="the branches proved on parameter intervals (see prove --intervals --help)")
     args = ap.parse_args(argv)
-    both = not (args.golden or args.orbits)
+    try:
+        user = scenefile.from_args(args)
+        names = (args.scenes or []) + user
+        have = golden.names_in(args.golden_dir)
+    except ValueError as exc:           # a bad scene file (SceneFileError) or golden directory
+        print(f"prove: {exc}", file=sys.stderr)
+        return 2
+    missing = [n for n in names if n not in have]
+    if missing:
+        print(f"prove: no golden data for {missing} in {golden.files(args.golden_dir)} (--golden-dir)", file=sys.stderr)
+        return 2
+    run_golden = args.golden or not args.orbits
+    run_orbits = args.orbits or not (args.golden or args.golden_dir or user)
     out, status = {}, 0
-    if args.golden or both:
-        totals = prove_golden(args.scenes, progress=lambda m: print(m, flush=True))
+    if run_golden:
+        totals = prove_golden(names or None, progress=lambda m: print(m, flush=True), directory=args.golden_dir)
         print(f"golden: {totals['proved']} of {totals['inputs']} inputs proved, "
               f"{totals['cases_proved']} of {totals['cases']} cases ({100 * totals['cases_proved'] / max(1, totals['cases']):.1f}%), "
               f"widest proved relative radius {totals['widest']:.1e}, {totals['seconds']} s")
@@ -126,7 +146,7 @@ def main(argv=None) -> int:
                 print(f"  ERROR {words}: {where}", file=sys.stderr)
                 status = 1
         out["golden"] = totals
-    if args.orbits or both:
+    if run_orbits:
         out["orbits"] = prove_orbits(progress=lambda m: print(m, flush=True))
     if args.json:
         with open(args.json, "w") as fh:

@@ -17,6 +17,11 @@ Scenes (paper, figure captions; every parameter an exact string or integer):
   the fold eq. ``fold:bif``), ``fold/at`` (f/F = 2/pi exactly), ``stuck/F=f`` and ``stuck/F<f``
   (F <= f: a particle that stops stays stopped).
 
+The registry (``scene(name)``, ``names()``): the built-in scenes above (``SCENES``) are its first
+entries; scenes from a user's scene file or an inline ``--scene`` (``cross_check.scenefile``, the one
+reader) are ``register``-ed after them under names that must not collide with a built-in one.
+Every command looks scenes up here, so a registered scene gets everything a built-in one has.
+
 States of interest per scene: a deterministic sample in the gap (``numpy`` PCG64, seed
 ``SEED`` + CRC32 of the scene name; float64 values, exact as binary numbers) plus the hard cases
 of ``cross_check.agreement.hardcases`` (decimal strings, constructed by closed-form backward flights).
@@ -30,7 +35,7 @@ import numpy as np
 
 from reference.scene import Scene
 from cross_check.agreement.case import Case
-from cross_check.agreement.hardcases import hard_cases
+from cross_check.agreement.hardcases import construct as construct_hard_cases
 
 SEED = 20261122
 
@@ -103,12 +108,35 @@ def xpot() -> Scene:
     return Scene(F=1, f="0.1", omega="2*pi", l=-1, r=1, wavenumber="pi/2")
 
 
+#: Scenes registered after the built-ins (a user's scene file, an inline scene), by name.
+_USER: dict[str, Scene] = {}
+
+
+def register(sc: Scene) -> str:
+    """Add a user's scene to the registry under ``sc.name`` (after the built-ins); returns the name.
+
+    A name of a built-in scene is refused (``ValueError``); registering a name again replaces
+    the earlier scene (a long-lived process -- a test session, a dask worker -- may verify two
+    files that both use a name; one file's duplicates are refused by ``cross_check.scenefile``)."""
+    if not isinstance(sc, Scene) or not sc.name:
+        raise ValueError(f"register: a Scene with a name is required, got {sc!r}")
+    if sc.name in SCENES:
+        raise ValueError(f"scene name {sc.name!r} is taken by a built-in scene; choose another name")
+    _USER[sc.name] = sc
+    return sc.name
+
+
+def names() -> list[str]:
+    """Every scene of the registry: the built-ins first, then the registered ones."""
+    return list(SCENES) + list(_USER)
+
+
 def scene(name: str) -> Scene:
-    """A scene by name (ValueError lists the known names)."""
-    try:
-        return SCENES[name]
-    except KeyError:
-        raise ValueError(f"scene must be one of {', '.join(SCENES)}; got {name!r}") from None
+    """A scene by name, built-in or registered (ValueError lists the known names)."""
+    found = SCENES.get(name) or _USER.get(name)
+    if found is None:
+        raise ValueError(f"scene must be one of {', '.join(names())}; got {name!r}")
+    return found
 
 
 def slug(name: str) -> str:
@@ -142,23 +170,21 @@ def sample_states(name: str, n: int, seed: int = SEED) -> list[Case]:
     return out
 
 
-#: Effects the hard-case construction covers (its backward flights are the base model's).
-_HARD_CASE_EFFECTS = frozenset({"walls", "forcing", "friction"})
-
-
 @functools.lru_cache(maxsize=None)
-def _hard_states(name: str) -> tuple:
-    if not scene(name).effects <= _HARD_CASE_EFFECTS:
-        # cross_check.agreement.hardcases runs base-model flights backward from the chosen event; with
-        # restitution, damping or position forcing those flights are not the scene's, so the
-        # effect scenes are probed by their samples (and the effect tests) instead.
-        return ()
-    return tuple(Case(c.name, c.x, c.v, "decimal", c.how, c.kind, c.t_event) for c in hard_cases(scene(name)))
+def _hard_states(sc: Scene) -> tuple:
+    """Keyed by the scene's parameters (a registered name may be re-registered)."""
+    cases, notes = construct_hard_cases(sc)
+    return tuple(Case(c.name, c.x, c.v, "decimal", c.how, c.kind, c.t_event) for c in cases), tuple(notes.items())
 
 
 def hard_states(name: str) -> list[Case]:
     """The constructible hard cases of the scene (see ``cross_check.agreement.hardcases``)."""
-    return list(_hard_states(name))
+    return list(_hard_states(scene(name))[0])
+
+
+def hard_case_notes(name: str) -> dict[str, str]:
+    """The hard cases the scene does not admit, each with the reason (``hardcases.construct``)."""
+    return dict(_hard_states(scene(name))[1])
 
 
 def states_of_interest(name: str, n_sample: int = 8, hard: bool = True) -> list[Case]:

@@ -416,3 +416,77 @@ TOLERANCES.update({
             "independent 50-digit integrator (error ~1e-48 after a period's conditioning) "
             "lands inside it; 1e-43 keeps 3 decades under golden_enclosure_rel"),
 })
+
+# --- issue 29: the engines on extreme scenes (tests/test_engine_ranges.py) -------------------
+TOLERANCES.update({
+    "engines_scaled_one_period": Tol(
+        rtol=0.0, atol=1e-13,
+        why="issue 29: fast_one_period_max in the scene's own units: position errors over "
+            "max(|l|, |r|, r - l, F/w^2), velocity errors over F/w + (r - l) w + f T -- the "
+            "scales of both engines' noise floors.  A scene rescaled in length and time is the "
+            "same problem (the paper's rescalings), so float64 carries the same few ulp per "
+            "event of these scales as at the paper's units; a wrong event misses by O(1)"),
+})
+
+# --- issue 24: fast's float64 flight values and their series (tests/test_fast_noise.py) -------
+TOLERANCES.update({
+    "fast_flight_trig_abs": Tol(
+        rtol=0.0, atol=8 * EPS,
+        why="issue 24: cos wt, sin wt of fast.flight.evaluate from the start's sin, cos (w t0) "
+            "(correctly rounded: 0.5 ulp) and the half angle's S, C (fast.dd.sincos64: within "
+            "2.2 eps, fast_sincos64_abs): cs0 - 2 S Qs carries 0.5 + 2 (2.2 + 2.2 + 1) eps of "
+            "rounding and input error < 8 eps (measured: 4 eps); they set the curvature of the "
+            "search's local minorants"),
+    "fast_flow_flight": Tol(
+        rtol=EPS, atol=0.0,
+        why="issue 24: fast.flow of an event-free flight is the double-double flight "
+            "(fast.flight.evaluate_dd, each term to ~1e-22 of its size) rounded once to float64: "
+            "within half an ulp plus 1e-22, i.e. eps relative (measured: 0.5 eps)"),
+    "fast_flight_series_rel": Tol(
+        rtol=3 * EPS, atol=0.0,
+        why="issue 24: Horner's rule on the alternating series of theta - sin theta (7 terms, "
+            "theta <= 1/2: terms fall by >= 20x) and of phi2 = (exp(-y) - 1 + y)/y^2 (15 terms, "
+            "y <= 1/2: by >= 6x): each step's rounding is damped by the next multiplication, so "
+            "the error is ~2 roundings of the result's size, plus the final products: <= 2.5 eps "
+            "(measured 1.7 and 0.4 eps); a term dropped from the first series leaves 5 eps at "
+            "theta = 1/2, two terms 4000 eps, three from phi2 25 eps"),
+    "fast_theta_minus_sin_direct_rel": Tol(
+        rtol=64 * EPS, atol=0.0,
+        why="issue 24: theta - 2 S C above theta = 1/2: 2 S C carries ~2.5 eps relative (S, C from "
+            "sincos64, one product), magnified by theta / (theta - sin theta) <= 24.3: <= 61 eps "
+            "(measured 27 eps; the docstring's 24 eps takes S, C exact)"),
+    "fast_phi2_direct_rel": Tol(
+        rtol=8 * EPS, atol=0.0,
+        why="issue 24: phi2 above y = 1/2 as (expm1(-y) + y)/y^2: expm1 to 1 ulp, the sum "
+            "magnified by y / (y - 1 + exp(-y)) <= 4.7, two more roundings: < 8 eps (measured "
+            "1.2 eps)"),
+    "fast_sincos64_abs": Tol(
+        rtol=0.0, atol=4 * EPS,
+        why="issue 24: fast.dd.sincos64: the table's sin, cos (k pi/32) correctly rounded, the "
+            "reduced argument's series in float64 (first omitted term < 1e-17) and three "
+            "roundings of the combination: < 3.5 eps absolute (measured 2.2 eps: the docstring's "
+            "'2 ulp' is 2.2 eps)"),
+})
+TOLERANCES.update({
+    "reference_short_flight_rel": Tol(
+        rtol=100.0, atol=0.0,
+        why="issue 24: one flight of the reference (reference.flows, base or damped) shorter "
+            "than 1e-7 T, from rest at x0 = 0, agrees with the plain closed forms at 3 dps + 40 "
+            "digits to 10^(2 - dps) relative to x and v themselves (rtol = 10^2 is the factor "
+            "over 10^-dps): its cancelling brackets (1 - cos theta, theta - sin theta, "
+            "exp(-c h) - 1 + c h, 1 - exp(-c h)) are formed at raised precision, so only a few "
+            "roundings of the result's own size remain (measured: within 10^(1 - dps)); "
+            "a bracket at working precision loses log10(1/h) digits or more"),
+})
+
+# --- issue 25: validated flights under position forcing (reference.enclosure.lohner) -------
+TOLERANCES.update({
+    "validated_flight_radius": Tol(
+        rtol=1e-30, atol=0.0,
+        why="issue 25 acceptance: a validated flight over one period at 200 bits (60 digits) "
+            "has relative radius <= 1e-30. Each Taylor step's Lagrange remainder is below "
+            "2^-200 of the state's scale and the rounding of ~100-term series ~1e3 ulp; ~15 steps "
+            "a period in the Lohner QR frame grow the box by about |Phi'| <= ~10, so ~1e-57 is "
+            "expected: 1e-30 leaves 27 decades, and a lost remainder or a wrapping blow-up "
+            "(an axis box over a period) would not be caught by it, only by containment"),
+})

@@ -9,10 +9,14 @@ a state meets them: ``api`` (validation, public functions) and ``eventlog`` (``e
 ``modes`` (closed-form exits and the chatter tail); ``ode`` (numerical flights for
 position-dependent forcing); ``params``, ``state``, ``dd`` (double-double arithmetic) and
 ``jit`` (compile options, in one place).
+
+Every function runs on every core available to the process (``default_threads()``; the
+environment variable ``VIBRO_THREADS`` or a ``threads=`` keyword overrides it).
 """
 from .api import MAX_EVENTS, flow, jacobian, map_and_jacobian, orbit, stroboscopic_map, zero_velocity
+from .batch import default_threads
 from .eventlog import Event, EventLog, events
 from .state import KINDS
 
 __all__ = ["stroboscopic_map", "jacobian", "orbit", "zero_velocity", "events",
-           "map_and_jacobian", "flow", "Event", "EventLog", "KINDS", "MAX_EVENTS"]
+           "map_and_jacobian", "flow", "Event", "EventLog", "KINDS", "MAX_EVENTS", "default_threads"]

@@ -10,9 +10,15 @@ have the broadcast shape.  ``periods = 0`` is the identity (as in ``reference``)
 at the compiled rate the default ``MAX_EVENTS`` takes at most a few seconds per state.
 A state that needs more (a gap of 1e-9 with ``v = 1``: 6e9 impacts per period) raises a
 ``RuntimeError`` naming the states and their event counts instead of running on.
+
+``threads`` (every function): None for ``default_threads()`` (every core available to the
+process, or the environment variable ``VIBRO_THREADS``), or an int in ``[1, 1024]``.  The
+results are the same bits for every thread count.
 """
 from __future__ import annotations
 
+import functools
+import math
 import numbers
 
 import numpy as np
@@ -23,13 +29,19 @@ from .params import check_scene
 #: default per-state event budget of one call (about a second of compiled work)
 MAX_EVENTS = 10_000_000
 _REAL_KINDS = "iuf"
+#: batches up to this size are validated in Python (a Newton step's few states)
+_SMALL = 8
 
 
 def _engine(scene):
     """``(engine, P)`` for the scene: position forcing takes the numerical flights of
     ``fast.ode`` (the only path to a numerical ODE solver), everything else the closed-form
     loop."""
-    check_scene(scene)
+    return _engine_of(check_scene(scene))
+
+
+@functools.lru_cache(maxsize=256)
+def _engine_of(scene):
     if scene.has("position_forcing"):
         return ode, ode.params(scene)
     return loop, loop.params(scene)
@@ -45,18 +57,30 @@ def _real_array(name, a):
 
 def _validate(engine, P, x, v):
     """Broadcast ``x, v`` to float64 arrays; finite, with ``l <= x <= r``."""
-    x, v = np.broadcast_arrays(_real_array("x", x), _real_array("v", v))
+    x, v = _real_array("x", x), _real_array("v", v)
+    if x.shape != v.shape:
+        x, v = np.broadcast_arrays(x, v)
+    l, r = float(P[engine.p.L]), float(P[engine.p.R])
+    if _fine(x, v, l, r):
+        return x, v
     for name, a in (("x", x), ("v", v)):
         bad = ~np.isfinite(a)
         if bad.any():
             raise ValueError(f"fast: non-finite state: {_items(name, a, bad)} "
                              f"({int(bad.sum())} in all)")
-    l, r = float(P[engine.p.L]), float(P[engine.p.R])
     bad = (x < l) | (x > r)
     if bad.any():
         raise ValueError(f"fast: {_items('x', x, bad)} is outside the walls [{l!r}, {r!r}] "
                          f"({int(bad.sum())} state(s) in all)")
     return x, v
+
+
+def _fine(x, v, l, r):
+    """All ``l <= x <= r`` and ``v`` finite (NaN fails both comparisons; the usual case in one
+    pass, in Python for the few states of a Newton step, where numpy's reductions cost more)."""
+    if x.size <= _SMALL:
+        return bool(x.size) and all(l <= a <= r for a in x.flat) and all(math.isfinite(b) for b in v.flat)
+    return bool(np.all(x >= l)) and bool(np.all(x <= r)) and bool(np.isfinite(v).all())
 
 
 def _items(name, a, bad):
@@ -74,70 +98,76 @@ def _count(name, value, *, low=0):
     return int(value)
 
 
-def _setup(scene, x, v, max_events):
+def _setup(scene, x, v, max_events, threads=None):
+    """The engine, its constants, the validated states, ``max_events`` and the thread count."""
     engine, P = _engine(scene)
     x, v = _validate(engine, P, x, v)
-    return engine, P, x, v, _count("max_events", max_events, low=1)
+    return engine, P, x, v, _count("max_events", max_events, low=1), batch.check_threads(threads, x.size)
 
 
 def _period(engine, P):
     return P[engine.p.T], P[engine.p.T_LO]
 
 
-def _run(engine, P, x, v, t_end, t_end_lo, max_events, **kw):
-    return batch.run(engine, P, x.ravel(), v.ravel(), t_end, t_end_lo, max_events=max_events, **kw)
+def _run(engine, P, x, v, t_end, t_end_lo, max_events, threads, **kw):
+    return batch.run(engine, P, x.ravel(), v.ravel(), t_end, t_end_lo, max_events=max_events,
+                     threads=threads, **kw)
 
 
-def stroboscopic_map(scene, x, v, *, periods=1, max_events=MAX_EVENTS):
+def stroboscopic_map(scene, x, v, *, periods=1, max_events=MAX_EVENTS, threads=None):
     """``Phi^periods(x, v)``: the state at ``t = periods T`` of the motion from ``(x, v)`` at
     ``t = 0``, each period from ``t0 = 0`` (the forcing is ``T``-periodic) with the state
     rounded to float64 in between; ``periods = 0`` returns the input."""
     periods = _count("periods", periods)
-    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
-    xs, vs = x.ravel().copy(), v.ravel().copy()
-    for _ in range(periods):
-        res = _run(engine, P, xs, vs, *_period(engine, P), max_events)
-        xs, vs = res.x, res.v
+    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
+    xs, vs = batch.run_periods(engine, P, x.ravel().copy(), v.ravel().copy(), *_period(engine, P),
+                               periods, max_events=max_events, threads=threads)
     return xs.reshape(x.shape), vs.reshape(x.shape)
 
 
-def orbit(scene, x, v, n, *, max_events=MAX_EVENTS):
+def orbit(scene, x, v, n, *, max_events=MAX_EVENTS, threads=None):
     """Iterates ``Phi^k(x, v)``, ``k = 0..n``: arrays of shape ``(n + 1,) + shape``."""
     n = _count("n", n)
-    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
-    X = np.empty((n + 1,) + x.shape)
-    V = np.empty_like(X)
-    X[0], V[0] = x, v
-    xs, vs = x.ravel().copy(), v.ravel().copy()
-    for k in range(1, n + 1):
-        res = _run(engine, P, xs, vs, *_period(engine, P), max_events)
-        xs, vs = res.x, res.v
-        X[k], V[k] = xs.reshape(x.shape), vs.reshape(x.shape)
-    return X, V
+    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
+    X, V = np.empty((n + 1, x.size)), np.empty((n + 1, x.size))
+    batch.run_periods(engine, P, x.ravel(), v.ravel(), *_period(engine, P), n,
+                      max_events=max_events, threads=threads, iterates=(X, V))
+    return X.reshape((n + 1,) + x.shape), V.reshape((n + 1,) + x.shape)
 
 
-def map_and_jacobian(scene, x, v, *, max_events=MAX_EVENTS):
+def map_and_jacobian(scene, x, v, *, periods=1, max_events=MAX_EVENTS, threads=None):
     """``(x1, v1, J, zero_velocity)`` over one period in one pass; ``J`` of shape ``shape +
     (2, 2)`` is ``Phi'``: the time-ordered product of the paper's Table 1 matrices
     (reflection with the velocity before impact; sticking ``[[1, 0], [0, 0]]``; wall
-    contact the zero matrix)."""
-    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
-    res = _run(engine, P, x, v, *_period(engine, P), max_events, jac=True)
+    contact the zero matrix).
+
+    ``periods = k >= 1``: ``Phi^k`` and the chain rule ``J_k = Phi'(z_{k-1}) ... Phi'(z_0)``
+    (later on the left, one matrix product per period), each period from ``t = 0`` as in
+    ``stroboscopic_map``; ``zero_velocity`` if any of the ``k`` periods reaches it."""
+    periods = _count("periods", periods, low=1)
+    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
+    res = _run(engine, P, x, v, *_period(engine, P), max_events, threads, jac=True)
+    xs, vs, zero = res.x, res.v, res.zero_velocity
+    J = res.J.reshape(-1, 2, 2)
+    for _ in range(periods - 1):
+        res = batch.run(engine, P, xs, vs, *_period(engine, P), jac=True, max_events=max_events,
+                        threads=threads)
+        xs, vs, zero, J = res.x, res.v, zero | res.zero_velocity, res.J.reshape(-1, 2, 2) @ J
     sh = x.shape
-    return res.x.reshape(sh), res.v.reshape(sh), res.J.reshape(sh + (2, 2)), res.zero_velocity.reshape(sh)
+    return xs.reshape(sh), vs.reshape(sh), J.reshape(sh + (2, 2)), zero.reshape(sh)
 
 
-def jacobian(scene, x, v, *, max_events=MAX_EVENTS):
+def jacobian(scene, x, v, *, max_events=MAX_EVENTS, threads=None):
     """``Phi'`` over one period, shape ``shape + (2, 2)`` (``map_and_jacobian``)."""
-    return map_and_jacobian(scene, x, v, max_events=max_events)[2]
+    return map_and_jacobian(scene, x, v, max_events=max_events, threads=threads)[2]
 
 
-def zero_velocity(scene, x, v, *, max_events=MAX_EVENTS):
+def zero_velocity(scene, x, v, *, max_events=MAX_EVENTS, threads=None):
     """Whether the motion over ``[0, T]`` reaches zero velocity (turn, stick, contact,
     chatter; with ``f = 0`` a smooth velocity reversal counts too): the paper's
     ``Omega_dissip``; the rest is ``Omega_pres``."""
-    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
-    res = _run(engine, P, x, v, *_period(engine, P), max_events)
+    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
+    res = _run(engine, P, x, v, *_period(engine, P), max_events, threads)
     return res.zero_velocity.reshape(x.shape)
 
 
@@ -151,10 +181,10 @@ def check_t_end(t_end):
     return t_end
 
 
-def flow(scene, x, v, t_end, *, max_events=MAX_EVENTS):
+def flow(scene, x, v, t_end, *, max_events=MAX_EVENTS, threads=None):
     """The state at ``t_end`` (any ``t_end >= 0``) of the motion from ``(x, v)`` at 0, in one
     pass (``stroboscopic_map`` restarts each period at ``t = 0`` instead)."""
     t_end = check_t_end(t_end)
-    engine, P, x, v, max_events = _setup(scene, x, v, max_events)
-    res = _run(engine, P, x, v, t_end, 0.0, max_events)
+    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
+    res = _run(engine, P, x, v, t_end, 0.0, max_events, threads)
     return res.x.reshape(x.shape), res.v.reshape(x.shape)

@@ -25,9 +25,15 @@ An *engine* is a module with two functions (``fast.loop`` for the closed-form fl
 
 Every state's numbers depend on that state only, so the split into chunks and threads
 never changes a result: the same bits for every batch size, order and thread count.
+
+Threads: every core available to the process by default (``default_threads``: the CPU
+affinity mask where the platform has one, else ``os.cpu_count()``), overridden by the
+environment variable ``VIBRO_THREADS`` (an integer in ``[1, MAX_THREADS]``) and by the
+``threads=`` keyword of each public function.
 """
 from __future__ import annotations
 
+import functools
 import os
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -39,14 +45,67 @@ _WHY = {EVENT_BUDGET: "more than max_events = {max_events} events",
         LOOP_BOUND: "an inner loop bound was exceeded",
         NON_FINITE: "a non-finite value appeared"}
 
-#: worker threads for large batches (the machine's cores, at most 2 by default)
-THREADS = max(1, min(2, os.cpu_count() or 1))
+#: a process-wide override of the thread count (None: ``default_threads()``, read at each call)
+THREADS = None
+#: the largest thread count accepted (``threads=`` and ``VIBRO_THREADS``)
+MAX_THREADS = 1024
+#: the environment variable that overrides the default thread count
+ENV = "VIBRO_THREADS"
 #: chunks per thread (the states of a batch differ in cost: several chunks balance the load)
 CHUNKS_PER_THREAD = 8
 #: a batch smaller than this runs on the calling thread (thread start-up costs ~50 us)
 MIN_THREADED = 256
 #: initial capacity of an event log row (rows that need more are run again with more)
 LOG_CAP = 32
+
+
+def cores() -> int:
+    """The cores this process may run on: ``len(os.sched_getaffinity(0))`` where the platform
+    has it (Linux: the affinity mask, so a container or ``taskset`` limit is seen), else
+    ``os.cpu_count()``."""
+    affinity = getattr(os, "sched_getaffinity", None)
+    n = len(affinity(0)) if affinity is not None else os.cpu_count()
+    return max(1, int(n or 1))
+
+
+def default_threads() -> int:
+    """The thread count of a call without ``threads=``: ``VIBRO_THREADS`` if set, else every
+    core available to the process (``cores()``), evaluated now."""
+    env = os.environ.get(ENV, "").strip()
+    return _env_threads(env) if env else cores()
+
+
+@functools.lru_cache(maxsize=16)
+def _env_threads(env):
+    try:
+        n = int(env)
+    except ValueError:
+        n = None
+    if n is None or not 1 <= n <= MAX_THREADS:
+        raise ValueError(f"fast: the environment variable {ENV} must be an integer in "
+                         f"[1, {MAX_THREADS}], got {env!r}")
+    return n
+
+
+def check_threads(threads, n=None) -> int:
+    """``threads=``: None (the default, ``default_threads()``) or an int in ``[1, MAX_THREADS]``.
+
+    ``n``, the batch size when known: a batch smaller than ``MIN_THREADED`` runs on the calling
+    thread whatever the count, so its default is 1 without counting the cores (a system call
+    per call costs a Newton step more than its states); ``VIBRO_THREADS`` is checked all the same.
+    """
+    if threads is None:
+        if THREADS is not None:
+            return THREADS
+        env = os.environ.get(ENV, "").strip()
+        if env:
+            return _env_threads(env)
+        return 1 if n is not None and n < MIN_THREADED else cores()
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)):
+        raise TypeError(f"fast: threads must be None or an integer in [1, {MAX_THREADS}], got {threads!r}")
+    if not 1 <= threads <= MAX_THREADS:
+        raise ValueError(f"fast: threads must be an integer in [1, {MAX_THREADS}], got {threads!r}")
+    return int(threads)
 
 
 @dataclass
@@ -71,8 +130,15 @@ def _chunks(n, threads):
 
 
 def _log_arrays(n, cap):
+    if cap == 0:
+        return _NO_LOG
     return (np.full((n, cap), -1, np.int8), np.full((n, cap), np.nan), np.full((n, cap), np.nan),
             np.full((n, cap), np.nan), np.full((n, cap), np.nan), np.zeros((n, cap), np.int64))
+
+
+#: the log of a run without one: empty arrays (``cap = 0``: the kernel never writes them), shared
+_NO_LOG = (np.full((0, 0), -1, np.int8), np.full((0, 0), np.nan), np.full((0, 0), np.nan),
+           np.full((0, 0), np.nan), np.full((0, 0), np.nan), np.zeros((0, 0), np.int64))
 
 
 def _run_once(engine, P, x, v, t_end, t_end_lo, jac, max_events, cap, threads):
@@ -80,15 +146,14 @@ def _run_once(engine, P, x, v, t_end, t_end_lo, jac, max_events, cap, threads):
     out = (np.empty(n), np.empty(n), np.zeros(n, np.uint8), np.zeros((n if jac else 0, 4)),
            np.zeros(n, np.int64), np.zeros(n, np.int64), np.zeros(n, np.int64))
     log = _log_arrays(n, cap)
-
-    def one(span):
-        engine.run_range(P, x, v, t_end, t_end_lo, jac, max_events, *out, *log, span[0], span[1])
-
     spans = _chunks(n, threads)
     if len(spans) == 1:
-        one(spans[0])
+        engine.run_range(P, x, v, t_end, t_end_lo, jac, max_events, *out, *log, 0, n)
     else:
-        with ThreadPoolExecutor(threads) as pool:
+        def one(span):
+            engine.run_range(P, x, v, t_end, t_end_lo, jac, max_events, *out, *log, span[0], span[1])
+
+        with ThreadPoolExecutor(min(threads, len(spans))) as pool:
             list(pool.map(one, spans))
     return out, log
 
@@ -97,16 +162,19 @@ def run(engine, P, x, v, t_end, t_end_lo=0.0, *, jac=False, log=False, max_event
         threads=None):
     """Run ``engine`` over the flat float64 arrays ``x, v`` (module docstring).
 
-    ``log``: gather the event log (rows that overflow ``LOG_CAP`` are run again with room
-    for all their events).  Raises ``RuntimeError`` naming the states that did not finish.
+    ``threads``: None (``default_threads()``, or the module's ``THREADS`` override) or an int
+    in ``[1, MAX_THREADS]``; the results do not depend on it.  ``log``: gather the event log
+    (rows that overflow ``LOG_CAP`` are run again with room for all their events).  Raises
+    ``RuntimeError`` naming the states that did not finish.
     """
-    threads = THREADS if threads is None else threads
+    threads = check_threads(threads)
     x = np.ascontiguousarray(x, dtype=np.float64)
     v = np.ascontiguousarray(v, dtype=np.float64)
     cap = LOG_CAP if log else 0
     (xs, vs, zv, J, nev, status, paths), logs = _run_once(engine, P, x, v, t_end, t_end_lo, jac,
                                                    max_events, cap, threads)
-    _raise_on_failures(status, nev, x, v, max_events)
+    if np.count_nonzero(status):
+        _raise_on_failures(status, nev, x, v, max_events)
     if log and nev.size and nev.max() > cap:
         over = np.flatnonzero(nev > cap)
         big = int(nev[over].max())
@@ -117,6 +185,30 @@ def run(engine, P, x, v, t_end, t_end_lo=0.0, *, jac=False, log=False, max_event
         for a, b in zip(logs, more):
             a[over] = b
     return Result(xs, vs, zv.astype(bool), J if jac else None, nev, paths, logs if log else None)
+
+
+def run_periods(engine, P, x, v, t_end, t_end_lo, periods, *, max_events, threads=None,
+                iterates=None):
+    """``Phi^periods`` on the flat float64 arrays ``x, v``: ``periods`` runs over
+    ``[0, t_end + t_end_lo]``, each from ``t = 0`` with the previous run's end state (the
+    forcing is periodic): the same bits as ``periods`` calls of ``run``, without its per-call
+    set-up.  ``iterates``: a pair of arrays ``(periods + 1, n)`` to fill with every iterate's
+    ``x`` and ``v`` (the start first).  Returns the final ``(x, v)``; raises like ``run`` in the
+    period that fails."""
+    threads = check_threads(threads, x.size)
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    v = np.ascontiguousarray(v, dtype=np.float64)
+    if iterates is not None:
+        iterates[0][0], iterates[1][0] = x, v
+    for k in range(1, periods + 1):
+        (xs, vs, _, _, nev, status, _), _ = _run_once(engine, P, x, v, t_end, t_end_lo, False,
+                                                     max_events, 0, threads)
+        if np.count_nonzero(status):
+            _raise_on_failures(status, nev, x, v, max_events)
+        x, v = xs, vs
+        if iterates is not None:
+            iterates[0][k], iterates[1][k] = x, v
+    return x, v
 
 
 def _pad(a):

@@ -66,12 +66,13 @@ class EventLog:
         return int(np.prod(self.shape))
 
 
-def events(scene, x, v, t_end=None, *, max_events=api.MAX_EVENTS):
-    """The event itinerary of each state over ``[0, t_end]`` (default one period)."""
-    engine, P, x, v, max_events = api._setup(scene, x, v, max_events)
+def events(scene, x, v, t_end=None, *, max_events=api.MAX_EVENTS, threads=None):
+    """The event itinerary of each state over ``[0, t_end]`` (default one period); ``threads``
+    as in ``fast.api``."""
+    engine, P, x, v, max_events, threads = api._setup(scene, x, v, max_events, threads)
     if t_end is None:
         t_end, t_end_lo = api._period(engine, P)
     else:
         t_end, t_end_lo = api.check_t_end(t_end), 0.0
-    res = api._run(engine, P, x, v, t_end, t_end_lo, max_events, log=True)
+    res = api._run(engine, P, x, v, t_end, t_end_lo, max_events, threads, log=True)
     return EventLog(x.shape, res)

@@ -40,7 +40,7 @@ from . import dop853 as dp
 from . import state as q
 from .jit import data_pointer, kernel
 from .output import record, store
-from .params import check_scene
+from .params import FAST_MAX, FAST_MIN, check_ranges, check_scene, fast_quantities
 
 EPS = 2.0 ** -52
 SUBDIV = 8
@@ -72,20 +72,52 @@ p = _Slots
 
 def params(scene):
     """``P``: ``F, f, c, k, w, e, l, r`` as float64 and the period ``T = 2 pi / w`` as a
-    double-double (``T + T_lo``, read at 40 digits)."""
+    double-double (``T + T_lo``, read at 40 digits), after the range check of
+    ``fast.params.check_ranges`` (``ValueError`` naming what float64 cannot hold)."""
     import mpmath
 
     check_scene(scene)
+    with mpmath.workdps(40):
+        check_ranges(scene, fast_quantities(scene, _quantities(scene)))
+        period = 2 * mpmath.pi / scene.mpf("omega")
     P = np.zeros(SIZE)
     k = scene.float("wavenumber")
     P[F], P[FF], P[DAMP] = scene.float("F"), scene.float("f"), scene.float("damping")
     P[K], P[W], P[E] = 0.0 if k is None else k, scene.float("omega"), scene.float("restitution")
     P[L], P[R] = scene.float("l"), scene.float("r")
     with mpmath.workdps(40):
-        period = 2 * mpmath.pi / scene.mpf("omega")
         P[T] = float(period)
         P[T_LO] = float(period - P[T])
     return P
+
+
+#: The most fixed steps a period may need at rest, ``S max(w, sqrt(F k), c)/w``
+#: (``_step_len``): a step must stay far above float64's resolution of times in ``[0, T]``
+#: (``eps T``, 2^-52 T; a step below it is skipped as "below resolution"), and 2^30 steps are
+#: already over six times the default event budget (1e7 events of 16 steps).
+MAX_STEPS_PER_PERIOD = 2.0 ** 30
+
+
+def _quantities(scene):
+    """This engine's derived constants (``fast.params.check_ranges``' format): the
+    wavenumber, the phase ``k max(|l|, |r|)`` of ``cos(k x)``, the rate ``F k`` of the
+    bounds, the steps per period at rest, and with damping the terminal speed ``(F + f)/c``."""
+    import mpmath
+
+    size = (FAST_MIN, FAST_MAX)
+    Fm, fm, cd, wm = (scene.mpf(k) for k in ("F", "f", "damping", "omega"))
+    km = scene.mpf("wavenumber") or mpmath.mpf(0)
+    xmax = max(abs(scene.mpf("l")), abs(scene.mpf("r")))
+    steps = STEPS_PER_PERIOD * max(wm, mpmath.sqrt(Fm * km), cd) / wm
+    out = [("wavenumber", km, ("wavenumber",), *size),
+           ("wavenumber max(|l|, |r|)", km * xmax, ("wavenumber", "l", "r"), None, FAST_MAX),
+           ("F wavenumber", Fm * km, ("F", "wavenumber"), *size),
+           ("steps per period", steps, ("F", "wavenumber", "damping", "omega"), None,
+            MAX_STEPS_PER_PERIOD, "fast.ode's fixed steps would fall toward the float64 "
+            "resolution of times in a period (fast.ode.MAX_STEPS_PER_PERIOD)")]
+    if cd > 0:
+        out.append(("(F + f)/damping", (Fm + fm) / cd, ("F", "f", "damping"), *size))
+    return out
 
 
 # --- the flight: steps, and the certified first event on the dense output ----------------

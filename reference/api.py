@@ -1,7 +1,11 @@
 """Public entry points: input checks, the precision context, and rounding of the results.
 
-Every call works inside ``mpmath.workdps(dps + GUARD_DIGITS)`` and restores the caller's
-precision on exit (also on error): no global precision change leaks.  Inputs ``x``, ``v``,
+Every call works inside ``mpmath.workdps(dps + GUARD_DIGITS + extra)`` and restores the
+caller's precision on exit (also on error): no global precision change leaks.  ``extra`` is 0
+for the paper's scenes; a scene whose gap is tiny against ``|l|`` or ``F/w^2``, or a call
+whose time span is many periods, gets the digits that keep the caller's ``dps`` right
+(``reference.model.extra_digits``), up to ``MAX_EXTRA_DIGITS`` more and ``MAX_DPS`` in all
+(a ``ValueError`` naming the quantity beyond).  Inputs ``x``, ``v``,
 ``t_end``, ``t0`` may be ``int``, ``float`` (its exact binary value), ``str`` (a decimal,
 read at the working precision), ``fractions.Fraction`` or ``mpmath.mpf``.  The state must
 lie in the closed gap: note that a float such as ``0.8`` is ``0.8000000000000000444``, so
@@ -16,7 +20,7 @@ import mpmath
 
 from reference.integrator import MAX_EVENTS, EventLog, integrate
 from reference.jacobian import product_of_table1
-from reference.model import GUARD_DIGITS, Model
+from reference.model import GUARD_DIGITS, MAX_EXTRA_DIGITS, Model, extra_digits
 from reference.scene import Scene
 
 
@@ -31,6 +35,19 @@ def check_dps(dps):
     if isinstance(dps, bool) or not isinstance(dps, int) or not 15 <= dps <= MAX_DPS:
         raise ValueError(f"dps must be an integer >= 15 (decimal digits) and <= {MAX_DPS} (an "
                          f"event costs seconds above it), got {dps!r}")
+
+
+def _work_dps(scene, dps, span_ratio=1):
+    """The working digits of a call: ``dps + GUARD_DIGITS`` plus the scene's and the time
+    span's ``extra_digits``; ``ValueError`` naming the quantity when ``dps + extra`` would
+    pass ``MAX_DPS``."""
+    extra, what = extra_digits(scene, span_ratio)
+    if extra > MAX_EXTRA_DIGITS or dps + extra > MAX_DPS:
+        raise ValueError(f"reference: {what} needs {extra} more working digits than dps + "
+                         f"{GUARD_DIGITS}, above reference.model.MAX_EXTRA_DIGITS = "
+                         f"{MAX_EXTRA_DIGITS} or dps + {extra} above MAX_DPS = {MAX_DPS}: the "
+                         f"events of a call would cost seconds each")
+    return dps + GUARD_DIGITS + extra
 
 
 def check_count(name, value, low):
@@ -99,11 +116,12 @@ def stroboscopic_map(scene, x, v, *, periods=1, dps=50, max_events=MAX_EVENTS):
     check_dps(dps)
     check_count("periods", periods, 0)
     check_count("max_events", max_events, 1)
-    with mpmath.workdps(dps + GUARD_DIGITS):
+    with mpmath.workdps(_work_dps(scene, dps, max(periods, 1))):
         model = _model_here(scene)
         x, v = _state(model, x, v)
         if periods == 0:
             return _rounded(dps, x, v)
+        model.check_span(0, periods * model.T)
         log = integrate(model, mpmath.mpf(0), x, v, periods * model.T, max_events)
         return _rounded(dps, log.x_end, log.v_end)
 
@@ -117,12 +135,15 @@ def trajectory(scene, x, v, t_end, *, t0=0, dps=50, max_events=MAX_EVENTS) -> Ev
     _check_scene(scene)
     check_dps(dps)
     check_count("max_events", max_events, 1)
-    with mpmath.workdps(dps + GUARD_DIGITS):
+    with mpmath.workdps(30):
+        span = max(abs(to_mpf("t0", t0)), abs(to_mpf("t_end", t_end))) * scene.mpf("omega") / (2 * mpmath.pi)
+    with mpmath.workdps(_work_dps(scene, dps, max(span, 1))):
         model = _model_here(scene)
         x, v = _state(model, x, v)
         t0, t_end = to_mpf("t0", t0), to_mpf("t_end", t_end)
         if t_end < t0:
             raise ValueError(f"t_end must be >= t0 (integration runs forward), got t0={t0}, t_end={t_end}")
+        model.check_span(t0, t_end)
         log = integrate(model, t0, x, v, t_end, max_events)
         return _round_log(log, dps)
 
@@ -149,7 +170,7 @@ def jacobian(scene, x, v, *, dps=50, max_events=MAX_EVENTS):
     _check_scene(scene)
     check_dps(dps)
     check_count("max_events", max_events, 1)
-    with mpmath.workdps(dps + GUARD_DIGITS):
+    with mpmath.workdps(_work_dps(scene, dps)):
         model = _model_here(scene)
         x, v = _state(model, x, v)
         log = integrate(model, mpmath.mpf(0), x, v, model.T, max_events)

@@ -77,6 +77,9 @@ def _flight(model, start, t):
     is ``(v, a) = (0, 0)`` (the force just equals friction), so that dependence drops out.
     """
     if model.position_forcing:
+        validated = getattr(model, "flow_derivative", None)
+        if validated is not None:        # reference.enclosure: the validated flight's own
+            return validated(start, t)   # enclosure of the variational equations
         from reference import taylor  # only scenes with position forcing reach the Taylor flow
 
         return taylor.flight_matrix(model, start[0], start[1], start[2], t)

@@ -8,12 +8,95 @@ Taylor flight of ``reference.taylor``.
 """
 from __future__ import annotations
 
+import math
+from functools import lru_cache
+
 import mpmath
+from mpmath.libmp import dps_to_prec
 
 from reference import events, flows
 
 #: Guard digits added to the caller's ``dps`` inside every public call.
 GUARD_DIGITS = 12
+#: Bits by which the working precision must resolve the scene's own scales (the gap against
+#: the position scale, the forcing's velocity ``F/w`` against the velocity scale, a period
+#: against the time span of a call) above the noise floor ``eps = 2^(-prec + NOISE_BITS)``:
+#: below that the noise floors, which decide "at the wall" and "at rest", swallow the motion
+#: (measured: l = 1e30, r = l + 1 at dps = 15 returned the wall, silently; w = 1e20 at dps =
+#: 15 stalled in stick/slip: with friction, turns and stops are velocity zeros, decided against
+#: the velocity noise).
+RESOLVED_BITS = 20
+#: Scale ratios up to ``10^FREE_DIGITS`` are absorbed by the guard digits; beyond, the public
+#: calls add ``log10(ratio) - FREE_DIGITS`` working digits (``extra_digits``), so that the
+#: caller's ``dps`` digits stay right.  Measured on l = 1e30, r = l + 1: with the gap resolved
+#: only by ``RESOLVED_BITS``, v came out right to 5 digits at dps = 27; with the extra digits,
+#: to every digit asked for.  The paper's scenes have ratios below 30: no extra digit.
+FREE_DIGITS = 3
+#: The most digits ``extra_digits`` adds: an event's cost grows like digits^1.7
+#: (``reference.api.MAX_DPS``), so 200 more digits make a 50-digit call's events about 12
+#: times dearer; a scene that needs more (``F = 1e300, omega = 1e-300``: 900) is refused by
+#: name, as it would spend minutes on the event budget of one call.
+MAX_EXTRA_DIGITS = 200
+#: The largest ``damping/omega`` the reference takes: a damped flight's certified event search
+#: steps through the fast relaxation (time ``1/c``) and its bounds grow with ``c``; measured
+#: at F = w = 1, f = 0.1, dps = 15 (one period): c = 100 takes 3 s, c = 250 about 18 s, and
+#: from c = 500 the search exceeds its budget of safe steps (a RuntimeError after ~15 s).
+MAX_DAMPING_RATIO = 128
+
+
+def scale_ratios(scene):
+    """``[(ratio, what)]``: the scene's scales over the quantities the noise floors must
+    resolve (at the current precision): the position scale ``max(|l|, |r|, F/w^2)`` over the
+    gap and, where a resting particle moves with friction (``F > f > 0``), the velocity scale
+    ``F/w + (r - l) w + f T`` over the forcing's velocity ``F/w``."""
+    F, f, w = scene.mpf("F"), scene.mpf("f"), scene.mpf("omega")
+    l, r, gap = scene.mpf("l"), scene.mpf("r"), scene.gap()
+    out = [(max(abs(l), abs(r), gap, F / w ** 2) / gap,
+            "the gap r - l (from l, r) against the position scale max(|l|, |r|, F/omega^2)")]
+    if F > f > 0:
+        out.append(((F / w + gap * w + f * 2 * mpmath.pi / w) / (F / w),
+                    "the forcing's velocity F/omega (from F, omega) against the velocity scale "
+                    "F/omega + (r - l) omega + f T"))
+    return out
+
+
+@lru_cache(maxsize=256)
+def _scene_ratio(scene):
+    with mpmath.workdps(30):
+        return max(scale_ratios(scene), key=lambda item: item[0])
+
+
+def extra_digits(scene, span_ratio=1):
+    """``(digits, what)``: the working digits a call adds to ``dps + GUARD_DIGITS`` so that
+    the largest of ``scale_ratios`` and of ``span_ratio`` (a call's time span over ``T``)
+    costs none of the caller's digits (``FREE_DIGITS``); ``what`` names that quantity."""
+    ratio, what = _scene_ratio(scene)
+    if span_ratio > ratio:
+        ratio, what = span_ratio, "the period T (from omega) against the time span of the call"
+    with mpmath.workdps(30):
+        digits = math.ceil(float(mpmath.log10(ratio))) - FREE_DIGITS
+    return max(0, digits), what
+
+
+def needed_dps(ratio) -> int:
+    """The least ``dps`` (at least 15) whose working precision, ``dps + GUARD_DIGITS`` digits,
+    resolves a quantity ``ratio`` times below the noise floor's scale by ``RESOLVED_BITS``."""
+    bits = float(mpmath.log(ratio, 2)) + RESOLVED_BITS + flows.NOISE_BITS
+    dps = max(15, math.floor(bits / math.log2(10)) - GUARD_DIGITS - 2)
+    while dps_to_prec(dps + GUARD_DIGITS) < bits:
+        dps += 1
+    return dps
+
+
+def check_resolution(eps, ratio, what: str) -> None:
+    """``ValueError`` unless ``eps * ratio <= 2^-RESOLVED_BITS``: a quantity ``ratio`` times
+    below its noise floor's scale stands out of the noise (the public calls add the digits
+    for it, ``extra_digits``; this guards any other caller)."""
+    if eps * ratio > mpmath.ldexp(1, -RESOLVED_BITS):
+        raise ValueError(
+            f"reference: {what}: a ratio of {mpmath.nstr(ratio, 3)}, which the working precision "
+            f"of {mpmath.mp.dps} digits cannot resolve; needs dps >= {needed_dps(ratio)} "
+            f"(+{GUARD_DIGITS} guard digits)")
 
 
 class Model:
@@ -40,6 +123,15 @@ class Model:
         self.x_scale = max(abs(self.l), abs(self.r), gap, self.F / self.w ** 2)
         self.v_scale = self.F / self.w + gap * self.w + self.f * self.T
         self.a_scale = self.F + self.f + gap * self.w ** 2
+        if self.c > MAX_DAMPING_RATIO * self.w:
+            raise ValueError(
+                f"reference: damping/omega = {mpmath.nstr(self.c / self.w, 3)} (from damping = "
+                f"{scene.damping!r:.60}, omega = {scene.omega!r:.60}) is above "
+                f"reference.model.MAX_DAMPING_RATIO = {MAX_DAMPING_RATIO}: the certified event "
+                f"search of a damped flight steps through relaxations of time 1/damping and "
+                f"exceeds its budget of safe steps")
+        for ratio, what in scale_ratios(scene):
+            check_resolution(self.eps, ratio, what)
         self.forcing = flows.CosineForcing(self.F, self.w, self.k)
         # constants of the base flight (shared by all flights of a run)
         self.Fw = self.F / self.w
@@ -66,6 +158,12 @@ class Model:
         if self.damping:
             return flows.DampedFlight
         return flows.BaseFlight
+
+    def check_span(self, t0, t_end) -> None:
+        """``ValueError`` unless the period ``T`` stands out of the noise of times of size
+        ``max(|t0|, |t_end|)`` (a call's time span) by ``RESOLVED_BITS``."""
+        check_resolution(self.eps, max(abs(t0), abs(t_end), self.T) / self.T,
+                         "the period T (from omega) against the time span of the call")
 
     def flight(self, t0, x0, v0, s):
         """A flight from ``(t0, x0, v0)`` with velocity sign ``s`` (0 when frictionless)."""

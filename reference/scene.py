@@ -16,149 +16,112 @@ parameters and validation, nothing that integrates. Every parameter is kept *exa
 * ``int`` and ``float`` are taken as the exact binary value they hold (as mpmath does);
 * a decimal string such as ``"0.8"`` is the exact decimal 4/5, at any precision;
 * a string expression in ``pi`` (``"2*pi"``, ``"(2*pi)**2"``, ``"pi/2"``) is exact too:
-  it is evaluated at whatever precision the caller works in;
+  it is evaluated at whatever precision the caller works in; an expression without ``pi``
+  and with integer powers (``"1/3"``, ``"2*0.1"``) is read as its exact rational;
 * an ``mpmath.mpf`` is the exact binary value it holds.
+
+Values may come from files written by others: reading one is bounded work.  Texts, trees,
+magnitudes (``2^-4096 .. 2^4096``), powers and exact rationals have named limits in
+``reference.expression`` (re-exported here); a value beyond one is a ``ValueError`` that
+starts ``"Scene: <name>"`` and names the limit and the text.
 
 ``scene.mpf(name)`` gives a parameter at the current mpmath precision (correctly
 rounded for rationals), ``scene.float(name)`` as a correctly rounded float64.
 """
 from __future__ import annotations
 
-import ast
 import math
 from dataclasses import dataclass, field
-from decimal import Decimal, InvalidOperation
 from fractions import Fraction
 from typing import Union
 
 import mpmath
+
+from reference.expression import (MAX_DEPTH, MAX_EXPONENT_BITS, MAX_NODES,  # noqa: F401
+                                  MAX_POWER_EXPONENT, MAX_RATIONAL_BITS, MAX_TEXT_LENGTH,
+                                  KEY_BITS, Expr, LimitError, check_mpf_parts, check_rational,
+                                  decimal_value, read)
 
 Number = Union[int, float, str, "mpmath.mpf", Fraction]
 
 #: Effects a scene can switch on.  ``walls`` is always on; the others follow the values.
 EFFECTS = ("walls", "forcing", "friction", "restitution", "damping", "position_forcing")
 
-_ALLOWED_BINOPS = (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow)
+
+def _show(value, width: int = 120) -> str:
+    """``repr(value)`` cut to ``width`` characters (an int too long to print: its size)."""
+    try:
+        text = repr(value)
+    except ValueError:                      # int beyond sys.get_int_max_str_digits()
+        bits = max(abs(Fraction(value).numerator).bit_length(), Fraction(value).denominator.bit_length())
+        text = f"<{type(value).__name__} of {bits}-bit integers>"
+    return text if len(text) <= width else text[:width - 3] + "..."
 
 
-class _Expr:
-    """An exact real given by an arithmetic expression in ``pi`` (evaluated on demand)."""
-
-    __slots__ = ("text", "_tree")
-
-    def __init__(self, text: str, tree: ast.AST):
-        self.text = text
-        self._tree = tree
-
-    def mpf(self) -> mpmath.mpf:
-        """The value at the current mpmath precision (a few guard bits inside)."""
-        with mpmath.workprec(mpmath.mp.prec + 20):
-            value = _eval_tree(self._tree)
-        return +value
-
-    def evaluate(self, number, pi):
-        """The value in another arithmetic: ``number(Fraction)`` makes a constant, ``pi`` is
-        that arithmetic's pi (``reference.enclosure`` evaluates in arb balls this way)."""
-        return _eval_tree(self._tree, number, pi)
-
-    def __float__(self) -> float:
-        with mpmath.workprec(113):
-            return float(_eval_tree(self._tree))
-
-    def __eq__(self, other):
-        return isinstance(other, _Expr) and other.text == self.text
-
-    def __hash__(self):
-        return hash(self.text)
-
-    def __repr__(self):
-        return repr(self.text)
+def _exact(name: str, value) -> Union[Fraction, Expr]:
+    """Convert a user value to an exact ``Fraction`` (or a ``pi`` expression) within the
+    limits of ``reference.expression`` (``ValueError`` naming ``name`` otherwise)."""
+    try:
+        return _exact_value(value)
+    except LimitError as exc:
+        raise ValueError(f"Scene: {name} = {_show(value)} is refused: {exc}") from None
+    except ValueError as exc:
+        raise ValueError(f"Scene: {name} {exc}, got {_show(value)}") from None
 
 
-def _mp_number(value: Fraction) -> mpmath.mpf:
-    return mpmath.mpf(value.numerator) / value.denominator
-
-
-def _eval_tree(node: ast.AST, number=_mp_number, pi=None):
-    """Evaluate an expression tree; ``number`` turns a ``Fraction`` into the arithmetic's
-    constant and ``pi`` is its pi (default: mpmath at the current precision)."""
-    if isinstance(node, ast.Expression):
-        return _eval_tree(node.body, number, pi)
-    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
-        return number(Fraction(str(node.value)))
-    if isinstance(node, ast.Name) and node.id == "pi":
-        return +mpmath.pi if pi is None else pi
-    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-        value = _eval_tree(node.operand, number, pi)
-        return -value if isinstance(node.op, ast.USub) else value
-    if isinstance(node, ast.BinOp) and isinstance(node.op, _ALLOWED_BINOPS):
-        a, b = _eval_tree(node.left, number, pi), _eval_tree(node.right, number, pi)
-        op = node.op
-        if isinstance(op, ast.Add):
-            return a + b
-        if isinstance(op, ast.Sub):
-            return a - b
-        if isinstance(op, ast.Mult):
-            return a * b
-        if isinstance(op, ast.Div):
-            return a / b
-        return a ** b
-    raise ValueError(f"unsupported element {ast.dump(node)}")
-
-
-def _exact(name: str, value) -> Union[Fraction, _Expr]:
-    """Convert a user value to an exact ``Fraction`` (or a ``pi`` expression)."""
+def _exact_value(value) -> Union[Fraction, Expr]:
     if isinstance(value, bool):
-        raise ValueError(f"Scene: {name} must be a real number, got {value!r}")
+        raise ValueError("must be a real number")
     if isinstance(value, (Fraction, int)):
-        return Fraction(value)
+        return check_rational(Fraction(value))
     if isinstance(value, float):
         if not math.isfinite(value):
-            raise ValueError(f"Scene: {name} must be finite, got {value!r}")
+            raise ValueError("must be finite")
         return Fraction(value)
     if isinstance(value, mpmath.mpf):
         if not mpmath.isfinite(value):
-            raise ValueError(f"Scene: {name} must be finite, got {value!r}")
+            raise ValueError("must be finite")
         sign, man, exp, _ = value._mpf_
-        fr = Fraction(int(man)) * (Fraction(2) ** exp)
+        check_mpf_parts(int(man), int(exp))
+        fr = Fraction(int(man)) * (Fraction(2) ** int(exp))
         return -fr if sign else fr
     if isinstance(value, str):
-        text = value.strip()
-        try:
-            dec = Decimal(text)
-        except InvalidOperation:
-            dec = None
-        if dec is not None:
-            if not dec.is_finite():
-                raise ValueError(f"Scene: {name} must be finite, got {value!r}")
-            return Fraction(dec)
-        try:
-            tree = ast.parse(text, mode="eval")
-            expr = _Expr(text, tree)
-            with mpmath.workprec(113):
-                probe = _eval_tree(tree)
-        except (SyntaxError, ValueError, ZeroDivisionError) as exc:
-            raise ValueError(
-                f"Scene: {name} must be a number, a decimal string or an expression in pi "
-                f"(+ - * / ** and parentheses), got {value!r}"
-            ) from exc
-        if not (mpmath.isfinite(probe) and mpmath.im(probe) == 0):
-            raise ValueError(f"Scene: {name} must be finite and real, got {value!r}")
-        return expr
-    raise ValueError(f"Scene: {name} must be int, float, str or mpmath.mpf, got {type(value).__name__}")
+        return _from_text(value.strip())
+    raise ValueError(f"must be int, float, str or mpmath.mpf (or a Fraction), not {type(value).__name__}")
 
 
-def _as_mpf(value: Union[Fraction, _Expr]) -> mpmath.mpf:
-    if isinstance(value, _Expr):
+def _from_text(text: str) -> Union[Fraction, Expr]:
+    """A decimal string exactly, or a checked expression in ``pi`` (``expression.read``)."""
+    if len(text) > MAX_TEXT_LENGTH:
+        raise LimitError(f"it has {len(text)} characters, more than MAX_TEXT_LENGTH = {MAX_TEXT_LENGTH}")
+    try:
+        dec = decimal_value(text)
+    except LimitError:
+        raise
+    except ValueError:
+        raise ValueError("must be finite") from None
+    if dec is not None:
+        return dec
+    try:
+        return read(text)
+    except LimitError:
+        raise
+    except ValueError as exc:
+        raise ValueError(f"must be a number, a decimal string or an expression in pi "
+                         f"(+ - * / ** and parentheses): {exc}") from None
+
+
+def _as_mpf(value: Union[Fraction, Expr]) -> mpmath.mpf:
+    if isinstance(value, Expr):
         return value.mpf()
     return mpmath.mpf(value.numerator) / value.denominator
 
 
-def _compare_key(value: Union[Fraction, _Expr]):
+def _compare_key(value: Union[Fraction, Expr]):
     """A value good enough for order checks between parameters (exact for rationals)."""
     if isinstance(value, Fraction):
         return value
-    with mpmath.workprec(400):
+    with mpmath.workprec(KEY_BITS):
         return Fraction(*_mpf_ratio(value.mpf()))
 
 
@@ -210,24 +173,24 @@ class Scene:
             exact[pname] = _exact(pname, value)
         key = {k: (None if v is None else _compare_key(v)) for k, v in exact.items()}
         if key["F"] < 0:
-            raise ValueError(f"Scene: F must be >= 0 (a phase shift of pi flips its sign), got {self.F!r}")
+            raise ValueError(f"Scene: F must be >= 0 (a phase shift of pi flips its sign), got {_show(self.F)}")
         if key["f"] < 0:
-            raise ValueError(f"Scene: f must be >= 0 (friction dissipates), got {self.f!r}")
+            raise ValueError(f"Scene: f must be >= 0 (friction dissipates), got {_show(self.f)}")
         if key["omega"] <= 0:
-            raise ValueError(f"Scene: omega must be > 0, got {self.omega!r}")
+            raise ValueError(f"Scene: omega must be > 0, got {_show(self.omega)}")
         if key["r"] <= key["l"]:
-            raise ValueError(f"Scene: r must be > l (the gap R = r - l is positive), got l={self.l!r}, r={self.r!r}")
+            raise ValueError(f"Scene: r must be > l (the gap R = r - l is positive), got l={_show(self.l)}, r={_show(self.r)}")
         if not 0 <= key["restitution"] <= 1:
-            raise ValueError(f"Scene: restitution must be in [0, 1], got {self.restitution!r}")
+            raise ValueError(f"Scene: restitution must be in [0, 1], got {_show(self.restitution)}")
         if key["damping"] < 0:
-            raise ValueError(f"Scene: damping must be >= 0, got {self.damping!r}")
+            raise ValueError(f"Scene: damping must be >= 0, got {_show(self.damping)}")
         if key["wavenumber"] is not None and key["wavenumber"] <= 0:
-            raise ValueError(f"Scene: wavenumber must be > 0 or None, got {self.wavenumber!r}")
+            raise ValueError(f"Scene: wavenumber must be > 0 or None, got {_show(self.wavenumber)}")
         object.__setattr__(self, "_exact", exact)
         object.__setattr__(self, "_key", key)
 
     # -- values -----------------------------------------------------------------------
-    def exact(self, name: str) -> Union[Fraction, "_Expr", None]:
+    def exact(self, name: str) -> Union[Fraction, "Expr", None]:
         """The exact value of a parameter: a ``Fraction``, or a ``pi`` expression."""
         return self._exact[name]
 
@@ -237,9 +200,29 @@ class Scene:
         return None if value is None else _as_mpf(value)
 
     def float(self, name: str) -> float:
-        """A parameter as a correctly rounded float64 (``None`` if unset)."""
+        """A parameter as a correctly rounded float64 (``None`` if unset); ``ValueError``
+        naming it when float64 cannot hold it (beyond ``1.8e308``, or nonzero below the
+        smallest subnormal ``5e-324``): never a silent ``inf`` or ``0``."""
         value = self._exact[name]
-        return None if value is None else float(value)
+        if value is None:
+            return None
+        try:
+            out = float(value)
+        except OverflowError:
+            out = math.inf
+        if not math.isfinite(out) or (out == 0 and self._key[name] != 0):
+            raise ValueError(f"Scene: {name} = {_show(getattr(self, name))} has no float64 value "
+                             f"(float64 holds magnitudes 5e-324 .. 1.8e308); the reference "
+                             f"(mpmath) works at any magnitude")
+        return out
+
+    def gap(self) -> mpmath.mpf:
+        """``R = r - l`` as an ``mpf`` at the current precision, from the exact difference
+        (a gap far below ``|l|`` is never lost to the rounding of ``l`` and ``r``)."""
+        l, r = self._exact["l"], self._exact["r"]
+        if isinstance(l, Fraction) and isinstance(r, Fraction):
+            return _as_mpf(r - l)
+        return _as_mpf(self._key["r"] - self._key["l"])
 
     def floats(self) -> dict:
         """All physical parameters as float64, keyed by name."""
@@ -271,8 +254,14 @@ class Scene:
 
     @property
     def period(self) -> float:
-        """``T = 2 pi / omega`` in float64 (integrators compute their own at their precision)."""
-        return 2 * math.pi / self.float("omega")
+        """``T = 2 pi / omega`` in float64 (integrators compute their own at their precision);
+        ``ValueError`` when float64 cannot hold it."""
+        omega = self.float("omega")
+        period = 2 * math.pi / omega
+        if not math.isfinite(period) or period == 0:
+            raise ValueError(f"Scene: omega = {_show(self.omega)} gives a period T = 2 pi/omega "
+                             f"beyond float64's range")
+        return period
 
     def replace(self, **changes) -> "Scene":
         """A copy with some parameters changed (validated again)."""

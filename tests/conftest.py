@@ -27,10 +27,13 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 # --- order: the fastest, most fault-sensitive checks first ---------------------------------
 #: modules run first, in this order, and marked ``sensitive`` (``python -m pytest -m sensitive``
-#: runs only them): the golden data, the threshold pairs, the fault catalogue, the precision on
+#: runs only them): the negative tests of every proof certificate and of fast's noise floors
+#: (issue 24), the golden data, the threshold pairs, the fault catalogue, the precision on
 #: short flights, the scorecard, the constructed events -- the checks that caught every fault
 #: injected so far (``python -m cross_check sensitivity``), in seconds
-SENSITIVE = ("test_golden.py", "test_thresholds.py", "test_sensitivity.py", "test_short_flights.py",
+SENSITIVE = ("test_certify_negative.py", "test_walk_negative.py", "test_chatter_tail_negative.py",
+             "test_orbits_negative.py", "test_fast_noise.py",
+             "test_golden.py", "test_thresholds.py", "test_sensitivity.py", "test_short_flights.py",
              "test_score.py", "test_constructed_events.py")
 #: modules run last: the claims and figures (the slowest), then the CLI end to end
 LAST = ("test_claims.py", "test_figures.py", "test_cli.py")

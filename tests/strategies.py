@@ -179,3 +179,67 @@ def chattering_orbits(draw):
     c1 = ef * (1 / (1 + ff) + 1 / math.sqrt(1 - ff * ff)) / (1 - rho)
     u0 = draw(st.floats(0.01, 1.0)) * min(0.1, 0.3 / c1)
     return Scene(F="1", f=f, omega="1", l="0", r="1", restitution=e), "1", f"{u0:.6g}"
+
+
+# --- untrusted scene values (issue 29: tests/test_scene_bounds.py, tests/test_engine_ranges.py) ---
+_ATOMS = ("0", "1", "2", "9", "10", "pi", "0.5", "1e3", "1.0000001", "(2**1000000)", "-1", "0x1F",
+          "1e308", "1e-308", "123456789012345678901234567890", "(pi-3)", "3.14159265358979")
+
+
+@st.composite
+def hostile_expressions(draw):
+    """Scene values as a hostile file would write them: towers of powers, deep nesting,
+    unary chains, huge and tiny literals, long sums and products, and arithmetic trees of
+    all of these -- each must evaluate or be refused at once (``reference.expression``)."""
+    atom = st.sampled_from(_ATOMS)
+    kind = draw(st.sampled_from(("tower", "nest", "unary", "literal", "sum", "tree", "long")))
+    if kind == "tower":
+        return "**".join(draw(st.lists(atom, min_size=2, max_size=7)))
+    if kind == "nest":
+        n = draw(st.integers(1, 200))
+        return "(" * n + draw(atom) + ")" * n
+    if kind == "unary":
+        return "".join(draw(st.lists(st.sampled_from("-+"), min_size=1, max_size=300))) + draw(atom)
+    if kind == "literal":
+        mant = draw(st.sampled_from(("1", "9.99", "0", "123456789", "0.000001")))
+        return f"{mant}e{draw(st.integers(-10 ** 12, 10 ** 12))}"
+    if kind == "sum":
+        op = draw(st.sampled_from("+-*/"))
+        return op.join(draw(st.lists(atom, min_size=2, max_size=150)))
+    if kind == "long":
+        return draw(atom) * draw(st.integers(1, 400))
+    tree = st.recursive(atom, lambda inner: st.tuples(inner, st.sampled_from(["+", "-", "*", "/", "**"]), inner)
+                        .map(lambda t: f"({t[0]}{t[1]}{t[2]})"), max_leaves=24)
+    return draw(tree)
+
+
+def _log_decimal(lo: int, hi: int):
+    """Decimal strings ``m e k`` with ``k`` in ``[lo, hi]`` (log-uniform magnitudes)."""
+    return st.tuples(st.integers(1, 9), st.integers(lo, hi)).map(lambda mk: f"{mk[0]}e{mk[1]}")
+
+
+@st.composite
+def extreme_scenes(draw, position_forcing=False):
+    """Scenes with extreme but legal values: ``F``, ``omega``, the gap and the wall offset
+    anywhere in ``1e-150 .. 1e150`` (beyond what float64 holds with room, ``fast.params``),
+    ``f`` from 0 to ``2 F``, damping from 0 to ``100 omega``, any restitution; optionally a
+    wavenumber of ``0.1 .. 3`` per gap."""
+    F, w, gap = (draw(_log_decimal(-150, 150)) for _ in range(3))
+    f = draw(st.sampled_from(("0", f"0.3*{F}", f"2*{F}", draw(_log_decimal(-150, 150)))))
+    c = draw(st.sampled_from(("0", f"1e-20*{w}", f"0.5*{w}", f"100*{w}")))
+    e = draw(st.sampled_from(("1", "0.5", "0")))
+    l = draw(st.sampled_from(("0", f"-({gap})", draw(_log_decimal(-150, 150)))))
+    k = f"1.5/({gap})" if position_forcing else None
+    return Scene(F=F, f=f, omega=w, l=l, r=f"{l}+{gap}", damping=c, restitution=e, wavenumber=k)
+
+
+# --- enclosures: wrong point logs (tests/test_walk_negative.py, issue 24) -------------------
+@st.composite
+def log_perturbations(draw):
+    """``(op, where, size)``: a wrong point log from a right one -- ``remove`` an event, ``add``
+    a copy of one ``size`` T later, or ``shift`` one by ``size`` T -- at the event ``where``
+    (a fraction of the log's length, in ``[0, 1)``); ``size = +-10^k``, ``k`` in ``[-12, -2]``."""
+    op = draw(st.sampled_from(("remove", "add", "shift")))
+    where = draw(st.floats(0.0, 1.0, exclude_max=True))
+    size = draw(st.sampled_from((1, -1))) * 10.0 ** draw(st.integers(-12, -2))
+    return op, where, size

@@ -3,8 +3,8 @@ cross_check/ import only downwards, with no circle anywhere.
 
 ``fast`` may read ``reference.scene`` (the problem definition) and nothing else of
 ``reference``; ``reference`` never imports ``fast`` or ``cross_check``; in ``cross_check``
-the layers run ``__main__ > report | sensitivity | proofs > atlas | score | paper > golden > scenes | dynamics >
-agreement > tolerances`` (``|``: neither imports the other), ``dynamics`` knows no scene table; and no
+the layers run ``__main__ > verify > report | sensitivity | proofs > atlas | score | paper > golden > scenefile >
+scenes | dynamics > agreement > tolerances`` (``|``: neither imports the other), ``dynamics`` knows no scene table; and no
 package has an import circle among its modules.  The contracts live in ``pyproject.toml``
 under ``[tool.importlinter]``; this test runs import-linter.
 """

@@ -16,8 +16,10 @@ import pathlib
 import mpmath
 import pytest
 
+import reference
 from cross_check import scenes
 from cross_check.paper import claims as C
+from cross_check.paper.claims import closed_forms
 from cross_check.tolerances import tol
 from reference import paper as P
 
@@ -219,6 +221,21 @@ def test_claim(cid):
     assert r["verdict"] == verdict, (cid, r["verdict"], r["numbers"])
     assert (r["corrected"] is not None) == (verdict == "erratum")
     check(r["numbers"])
+
+
+def test_the_xpot_centre_is_proved_elliptic_on_validated_flights():
+    """fig:xpotno's non-sticking centre (position forcing, issue 25): a unique fixed point of
+    Phi in its box, two impacts a period, multipliers proved non-real on the unit circle.  The
+    point reference's Phi' at the seed (mpmath Taylor flights, not the balls) has the same
+    trace within ``claim_multiplier``."""
+    (p,) = row("xpot-equilibria")["proved"]
+    assert p["proved"], p.get("reason")
+    assert p["kind"] == "elliptic" and p["itinerary"] == {"impact": 2}
+    (m,) = p["multipliers"]
+    re, im = float(m["re"][0]), float(m["im"][0])
+    assert m["re"][1] < 1e-40 and m["im"][1] < 1e-40 and abs(re * re + im * im - 1) < 1e-15
+    J = reference.jacobian(scenes.scene("fig:xpotno"), *closed_forms.XPOT_CENTRE, dps=30)
+    assert abs(float(J[0][0] + J[1][1]) / 2 - re) < tol("claim_multiplier").atol
 
 
 # --- the snapshot: the claims JSON does not move -----------------------------------------

@@ -133,9 +133,7 @@ def test_bad_arguments_raise(kwargs, error):
         enclose_map(scenes.scene("fig:narrow"), "0.3", "0.2", **kwargs)
 
 
-def test_position_forcing_and_wrong_types_are_refused():
-    with pytest.raises(ValueError, match="position-dependent"):
-        enclose_map(scenes.scene("fig:xpotno"), "0.3", "0.2")
+def test_wrong_types_are_refused():
     with pytest.raises(TypeError, match="scene"):
         enclose_map("fig:narrow", "0.3", "0.2")
     with pytest.raises(TypeError, match="x and x_radius"):

@@ -13,8 +13,8 @@ the states of interest of one scene.  Tolerances come from cross_check/tolerance
   x kappa^2 x max(1, |J|); states in the band are held to nothing but are counted.
 
 Enclosures (issue 17): every written digit of a proved input lies in its proved ball (up to the
-rounding of its last written digit); at least 95% of the cases are proved and every other one
-says why.
+rounding of its last written digit).  Every input is proved (issue 25: position forcing too),
+or it is listed in ``UNPROVED`` with the reason no proof can exist -- the list is empty.
 
 Comparisons follow ``assert_allclose`` (reference as ``desired``) with errors scaled by
 ``max(1, |desired|)``.
@@ -255,10 +255,30 @@ def test_golden_digits_lie_in_their_proved_enclosures(name):
                     assert _in_ball(inp["jacobian"][i][j], enc["jacobian"][i][j]), (where, i, j)
 
 
-def test_at_least_95_percent_of_golden_cases_are_proved():
-    cases = [c for name in scenes.SCENES for c in _load(name)["cases"]]
-    proved = [c for c in cases if all(i["enclosure"]["proved"] for i in c["inputs"].values())]
-    assert len(proved) >= 0.95 * len(cases), f"{len(proved)} of {len(cases)} proved"
+#: golden inputs ("scene / case / label") that have no proof, each with the reason none can
+#: exist (documented exceptions); since issue 25 there are none
+UNPROVED: dict[str, str] = {}
+
+
+def _unproved(files) -> dict:
+    """``{"scene / case / label": reason}`` of the inputs without a proof in ``files``
+    (``{scene: golden record}``)."""
+    return {f"{name} / {case['name']} / {label}": inp["enclosure"]["reason"]
+            for name, data in files.items() for case in data["cases"]
+            for label, inp in case["inputs"].items() if not inp["enclosure"]["proved"]}
+
+
+def test_every_golden_input_is_proved_or_a_documented_exception():
+    got = _unproved({name: _load(name) for name in scenes.SCENES})
+    assert set(got) == set(UNPROVED), {k: got.get(k, "proved, but listed") for k in set(got) ^ set(UNPROVED)}
+    assert all(len(reason) > 20 for reason in got.values())
+
+
+def test_an_unproved_input_outside_the_exceptions_is_seen():
+    """The checker above, seen to fail: one input's proof removed by hand is reported."""
+    data = _load("fig:xpotno")
+    data["cases"][0]["inputs"]["exact"]["enclosure"] = {"proved": False, "reason": "removed by hand"}
+    assert _unproved({"fig:xpotno": data}) == {"fig:xpotno / sample-0 / exact": "removed by hand"}
 
 
 @pytest.mark.parametrize("name, case_name", [

@@ -54,14 +54,17 @@ def test_fast_holds_14_digits_in_every_kind(fast_card):
 
 
 def test_scipy_misses_grazing_impacts_and_sticks():
-    card = score(SCIPY, scenes=["fig:narrow", "fig:narrow-with-friction", "fig:many:2pi/f=0.01"], periods=(1,))
+    card = score(SCIPY, scenes=["fig:narrow", "fig:narrow-with-friction", "fig:many:2pi/f=0.1"], periods=(1,))
     kinds = card.kinds()
     # every grazing case: the impact at the tangency is missed (the step jumps over the graze)
-    assert kinds["grazing"]["flagged"] and kinds["grazing"]["missed"] == kinds["grazing"]["cases"] == 3
+    assert kinds["grazing"]["flagged"] and kinds["grazing"]["cases"] == 3
+    assert all(c.missed.get("impact") == 1 for c in card.cases if c.kind == "grazing")
     missed = {c.id: c.missed for c in card.cases if c.missed and not c.band}
     assert missed["fig:narrow/grazing"] == {"impact": 1}
     assert missed["fig:narrow-with-friction/sticking"] == {"turn": 1, "stick": 1, "slip": 1}
-    assert kinds["sticking"]["flagged"] and kinds["chatter"]["flagged"]
+    assert kinds["sticking"]["flagged"]
+    # a chatter run it ends by a threshold (below 100 atol): the accumulation, hence Phi, to 10-12 digits
+    assert kinds["chatter"]["grade"] == "B" and kinds["chatter"]["worst_graded_digits"] < 13
     assert kinds["impact"]["missed"] == kinds["impact"]["invented"] == 0     # ordinary impacts it finds
 
 
@@ -70,7 +73,8 @@ def test_scipy_misses_grazing_impacts_and_sticks():
     (Faulty("damping doubled", {"damping": lambda p: 2 * p["damping"]}), ["damping"]),
     (Faulty("wavenumber 1e-6 off", {"wavenumber": lambda p: p["wavenumber"] and p["wavenumber"] * (1 + 1e-6)}),
      ["position forcing"]),
-    (Faulty("grazing impacts skipped", drop=1e-3), ["grazing"]),
+    # the effect scenes' grazing cases are graded under their effect (score.golden: a scene's effect first)
+    (Faulty("grazing impacts skipped", drop=1e-3), ["grazing", "restitution", "damping"]),
 ], ids=lambda a: a.name if hasattr(a, "name") else "")
 def test_a_fault_is_flagged_in_its_kind_only(fault, kinds):
     assert score(fault, periods=(1,)).flagged() == kinds
@@ -130,7 +134,9 @@ def test_ten_periods_are_scored_against_the_reference():
 
 def test_cli_writes_markdown_and_json(tmp_path, capsys):
     out = tmp_path / "card"
-    status = cli.main(["score", "fast", "--scenes", "fig:narrow", "stuck/F<f", "--periods", "1", "--out", str(out)])
+    # in process: the worker process's path is tested on its own (tests/test_score_budget.py)
+    status = cli.main(["score", "fast", "--scenes", "fig:narrow", "stuck/F<f", "--periods", "1", "--out", str(out),
+                       "--in-process"])
     assert status == 0, capsys.readouterr().err
     data = json.loads((out / "scorecard.json").read_text())
     assert data["adapter"] == "fast" and data["kinds"]["impact"]["grade"] == "A"
@@ -148,6 +154,7 @@ def test_heyoka_adapter_when_installed():
 def test_golden_cases_have_their_kinds():
     kinds = {c.name: c.kind for c in scene_cases("fig:narrow-with-friction")}
     assert kinds["grazing"] == "grazing" and kinds["crossing_pair"] == "crossing pair"
-    assert kinds["sticking"] == "sticking" and kinds["chatter"] == "chatter" and kinds["sample-0"] == "impact"
+    assert kinds["sticking"] == "sticking" and kinds["sample-0"] == "impact"
+    assert {c.name: c.kind for c in scene_cases("fig:many:wide/f=0.3")}["chatter"] == "chatter"
     assert {c.name: c.kind for c in scene_cases("fig:narrow")}["impact_at_T"] == "root at t = kT"
     assert {c.kind for c in scene_cases("fig:xpotno")} == {"position forcing"}

@@ -1,9 +1,11 @@
-"""The atlas's maps and its agreement with the closed forms.
+"""The atlas's maps and its agreement with the closed forms, read from the store.
 
-``fields`` turns the gathered values into arrays (``R`` rows, ``f/F`` columns); ``boundaries``
-measures, for each closed-form boundary, where the computed region actually switches, in grid
-cells (the checks: within one cell); ``draw`` writes one PNG per claim, the computed region
-shaded and the closed-form boundaries drawn over it, labelled.
+``fields`` turns the store's variables into float arrays (``w2R_over_F`` rows, ``f_over_F``
+columns, NaN where undefined); ``boundaries`` measures, for each closed-form boundary, where the
+computed region actually switches, in grid cells (the checks: within one cell); ``counts`` the
+points where each variable holds; ``draw`` writes one PNG per claim, the computed region shaded
+and the closed-form boundaries drawn over it, labelled.  Each takes the ``xarray.Dataset`` of
+``store.open_atlas``.
 """
 from __future__ import annotations
 
@@ -13,30 +15,44 @@ import numpy as np
 
 from cross_check.atlas.claims import FOLD, STICK_ATTRACTOR, x2_nonstick_boundary
 
-#: field name -> (claim, how to read it from a point's value)
+#: field name -> (claim, the store's variable)
 FIELDS = {
-    "x1 exists, non-sticking": ("symmetric", lambda d: d["x1"]),
-    "x2 exists, non-sticking": ("symmetric", lambda d: d["x2"]),
-    "printed condition > 0": ("symmetric", lambda d: d["printed"]),
-    "period-1 centre": ("subharmonic-islands", lambda d: d["m1"]),
-    "period-3 centre": ("subharmonic-islands", lambda d: d["m3"]),
-    "period-5 centre": ("subharmonic-islands", lambda d: d["m5"]),
-    "no-impact periodic orbit": ("no-impact", lambda d: d["exists"]),
-    "no-impact orbit sticks": ("no-impact", lambda d: d["sticks"]),
-    "Omega_dissip leaves itself (fraction)": ("dissip-invariance", lambda d: d["fraction"]),
-    "log10 max |det Phi' - 1| (non-sticking)": ("area-preservation",
-                                                lambda d: None if d["max_det_minus_1"] is None
-                                                else math.log10(max(d["max_det_minus_1"], 1e-17))),
+    "x1 exists, non-sticking": ("symmetric", "x1"),
+    "x2 exists, non-sticking": ("symmetric", "x2"),
+    "printed condition > 0": ("symmetric", "printed"),
+    "period-1 centre": ("subharmonic-islands", "period1"),
+    "period-3 centre": ("subharmonic-islands", "period3"),
+    "period-5 centre": ("subharmonic-islands", "period5"),
+    "no-impact periodic orbit": ("no-impact", "no_impact"),
+    "no-impact orbit sticks": ("no-impact", "sticks"),
+    "Omega_dissip leaves itself (fraction)": ("dissip-invariance", "dissip_fraction"),
+    "log10 max |det Phi' - 1| (non-sticking)": ("area-preservation", "area_defect"),
 }
 
 
-def fields(values: dict) -> dict:
-    """``{field: float array (R rows, f/F columns)}``, nan where undefined, for the claims present."""
+def fields(ds) -> dict:
+    """``{field: float array (w2R_over_F rows, f_over_F columns)}``, NaN where undefined, for the
+    variables in the store."""
     out = {}
-    for name, (claim, read) in FIELDS.items():
-        if claim in values:
-            out[name] = np.array([[np.nan if read(d) is None else float(read(d)) for d in row]
-                                  for row in values[claim]])
+    for name, (_, var) in FIELDS.items():
+        if var in ds:
+            a = np.asarray(ds[var].values, float)
+            out[name] = np.log10(np.maximum(a, 1e-17)) if var == "area_defect" else a
+    return out
+
+
+def counts(ds) -> dict:
+    """``{variable: {"true": n, "defined": n}}`` for the yes/no variables, ``{"defined": n}`` for
+    the numbers: the atlas's summary."""
+    out = {}
+    for var in ds.data_vars:
+        if var == "done" or "example" in ds[var].dims:
+            continue
+        a = np.asarray(ds[var].values, float)
+        entry = {"defined": int(np.isfinite(a).sum())}
+        if ds[var].attrs.get("undefined", "").startswith(("always", "int8")):
+            entry["true"] = int((a == 1).sum())
+        out[var] = entry
     return out
 
 
@@ -48,13 +64,14 @@ def _switch(xs, column):
     return None
 
 
-def boundaries(grid, values) -> dict:
-    """Each closed-form boundary against the computed switch, in grid cells: ``{name: worst
-    |computed - closed form| / cell}`` over the rows or columns where the closed form applies."""
-    F = fields(values)
-    fF, R = grid.fF, grid.R
-    df = 1.0 / grid.n
-    dlog = (math.log10(R[-1]) - math.log10(R[0])) / (grid.n - 1)
+def boundaries(ds) -> dict:
+    """Each closed-form boundary against the computed switch, in grid cells: ``{name: (worst
+    |computed - closed form| / cell, lines compared)}`` over the rows or columns where the
+    closed form applies."""
+    F = fields(ds)
+    fF, R = ds["f_over_F"].values, ds["w2R_over_F"].values
+    df = 1.0 / (fF.size - 1)
+    dlog = (math.log10(R[-1]) - math.log10(R[0])) / (R.size - 1)
     out = {}
 
     def along_f(field, f_star, rows):
@@ -107,17 +124,17 @@ def _closed_forms(ax, claim):
         ax.axvline(STICK_ATTRACTOR, color="r", ls=":", lw=1.2, label="f/F = 1/sqrt(1 + pi^2/4)")
 
 
-def draw(grid, values, out_dir) -> list:
-    """One PNG per claim present (a panel per field); returns the paths."""
+def draw(ds, out_dir) -> list:
+    """One PNG per claim in the store (a panel per field); returns the paths."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    F = fields(values)
-    fe, Re = _edges(grid.fF), _edges(grid.R, log=True)
+    F = fields(ds)
+    fe, Re = _edges(ds["f_over_F"].values), _edges(ds["w2R_over_F"].values, log=True)
     paths = []
-    for claim in values:
-        names = [n for n, (c, _) in FIELDS.items() if c == claim]
+    for claim in ds.attrs["claims"]:
+        names = [n for n, (c, _) in FIELDS.items() if c == claim and n in F]
         fig, axes = plt.subplots(1, len(names), figsize=(4.6 * len(names), 4.2), squeeze=False)
         for ax, name in zip(axes[0], names):
             binary = name not in ("Omega_dissip leaves itself (fraction)",) and not name.startswith("log10")
@@ -135,8 +152,10 @@ def draw(grid, values, out_dir) -> list:
             ax.set_title(name + (" (grey: yes)" if binary else ""), fontsize=9)
             if ax.get_legend_handles_labels()[0]:
                 ax.legend(fontsize=7, loc="lower right")
-        fig.suptitle(f"atlas: {claim} ({grid.n} x {grid.n}, F = w = 1)", fontsize=10)
-        fig.tight_layout()
+        fig.suptitle(f"atlas: {claim} ({fe.size - 2} x {Re.size - 1} + the f = 0 column, F = w = 1)",
+                     fontsize=10)
+        w = 4.6 * len(names)                      # fixed margins (tight_layout doubles the time)
+        fig.subplots_adjust(left=0.7 / w, right=1 - 0.15 / w, bottom=0.12, top=0.88, wspace=0.35)
         path = f"{out_dir}/atlas_{claim}.png"
         fig.savefig(path, dpi=100)
         plt.close(fig)

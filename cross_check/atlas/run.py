@@ -1,182 +1,294 @@
-"""The atlas on Dask: a grid of parameter points, cut into chunks, computed on a cluster,
-gathered in grid order.
+"""The atlas on Dask: a grid of parameter points, cut into square blocks, each block computed by
+one task that writes it into the Zarr store (``cross_check.atlas.store``) as soon as it is done.
 
-``python -m cross_check atlas [--claim ID ...] [--grid N] [--scheduler ADDRESS] [--workers K]
-[--out DIR]``.  The grid is ``N x N`` cell-centred points of ``f/F`` in ``(0, 1)`` (plus the
-column ``f = 0``, where the frictionless closed forms hold) and of ``w^2 R/F`` in ``[0.5, 100]``
-(log-spaced: the paper's scenes sit at 0.8 ... 79).  A task is a chunk of ``CHUNK`` points
-(every listed claim at each); ``dask.distributed`` runs them: by default on a ``LocalCluster`` of
-``--workers`` processes started here, or on an existing cluster with ``--scheduler
-tcp://HOST:PORT`` (the same code path; start one with ``dask scheduler`` and ``dask worker
-tcp://HOST:8786`` on each machine).  Results are put back by chunk index, so the output is the
-same for any number of workers and any completion order; a worker that dies loses nothing
-(dask recomputes its chunks elsewhere, ``retries`` covers a chunk lost mid-run).  Progress: a
-line per completed chunk with the rate and an ETA.
+``python -m cross_check atlas [--claim ID ...] [--grid NF[xNR]] [--chunk C] [--scheduler ADDRESS]
+[--workers K] [--out DIR]``.  The grid is ``NF`` cell centres of ``f/F`` in ``(0, 1)`` plus the
+column ``f = 0`` (where the frictionless closed forms hold) by ``NR`` log-spaced cell centres of
+``w^2 R/F`` in ``[0.5, 100]`` (the paper's scenes sit at 0.8 ... 79); ``--grid 256`` is
+``256x256``, ``--grid 256x64`` has 256 ``f/F`` columns (+1) and 64 ``w^2 R/F`` rows.  A task is a
+``C x C`` block of points (every listed claim at each), exactly one zarr chunk of every variable
+(``C = CHUNK``, or less on a small grid: ``Grid.default_chunk``).
+``dask.distributed`` runs the tasks: by default on a ``LocalCluster`` of ``--workers`` processes
+started here, or on an existing cluster with ``--scheduler tcp://HOST:PORT`` (the same code path;
+the workers write the store, so ``DIR`` must be on a file system they share).  Each task writes
+its block, then the block's ``done`` markers.  Rerunning the same command on the same ``DIR``
+skips the blocks already done (a run killed at any point loses only the blocks in flight) and
+gives the same store as an uninterrupted run; a store made with another grid, chunk or claims is
+refused (exit 2).  The values do not depend on the number of workers, the chunk or the
+completion order; a worker that dies loses nothing (dask reruns its task elsewhere, ``RETRIES``).
+Progress: a line per written block with the rate and an ETA.
 """
 from __future__ import annotations
 
+import contextlib
 import math
+import re
 import sys
 import time
-from dataclasses import dataclass
+import uuid
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from cross_check.atlas import claims as C
+from cross_check.atlas import store
 
-CHUNK = 32
+CHUNK = 16
 R_RANGE = (0.5, 100.0)
 RETRIES = 3
+GRID_MAX = 4096
+#: how long to try to reach a scheduler given by ``--scheduler``
+CONNECT_TIMEOUT = "20s"
 
 
 @dataclass(frozen=True)
 class Grid:
-    """``f/F`` values (first 0, then ``n`` cell centres of ``(0, 1)``) and ``w^2 R/F`` values."""
+    """``nf`` cell centres of ``f/F`` in ``(0, 1)`` after the column ``f = 0`` (``nf + 1`` columns)
+    by ``nr`` log-spaced ``w^2 R/F`` rows (``nr = nf`` if not given)."""
 
-    n: int
+    nf: int
+    nr: int = field(default=0)
+
+    def __post_init__(self):
+        if not self.nr:
+            object.__setattr__(self, "nr", self.nf)
+        for name, n in (("NF", self.nf), ("NR", self.nr)):
+            if not (isinstance(n, (int, np.integer)) and not isinstance(n, bool) and 2 <= n <= GRID_MAX):
+                raise ValueError(f"grid: {name} must be an int in [2, {GRID_MAX}], got {n!r}")
+
+    @classmethod
+    def parse(cls, text) -> "Grid":
+        """``"N"`` (``N x N``) or ``"NFxNR"`` (``NF`` columns of ``f/F``, ``NR`` rows of ``w^2 R/F``)."""
+        m = re.fullmatch(r"\s*(\d+)\s*(?:[xX]\s*(\d+))?\s*", str(text))
+        if not m:
+            raise ValueError(f"grid must be N or NFxNR (e.g. 64 or 256x64), got {text!r}")
+        return cls(int(m.group(1)), int(m.group(2) or m.group(1)))
+
+    @property
+    def name(self) -> str:
+        return f"{self.nf}x{self.nr}"
+
+    @property
+    def shape(self):
+        """``(rows, columns)`` = ``(nr, nf + 1)``."""
+        return self.nr, self.nf + 1
 
     @property
     def fF(self):
-        return np.concatenate([[0.0], (np.arange(self.n) + 0.5) / self.n])
+        return np.concatenate([[0.0], (np.arange(self.nf) + 0.5) / self.nf])
 
     @property
     def R(self):
         lo, hi = (math.log10(r) for r in R_RANGE)
-        return 10.0 ** (lo + (np.arange(self.n) + 0.5) / self.n * (hi - lo))
+        return 10.0 ** (lo + (np.arange(self.nr) + 0.5) / self.nr * (hi - lo))
 
-    def points(self):
-        """``(i, j, f/F, R)`` in row-major order (``i`` over ``R``, ``j`` over ``f/F``)."""
-        return [(i, j, float(f), float(r)) for i, r in enumerate(self.R) for j, f in enumerate(self.fF)]
+    def default_chunk(self) -> int:
+        """``CHUNK`` points per side, fewer on a small grid (at least 4 blocks along its shorter
+        side, so that a few workers share it)."""
+        return max(1, min(CHUNK, math.ceil(min(self.shape) / 4)))
 
-
-def evaluate_chunk(points, claims):
-    """One task: every claim at every point of the chunk (runs on a worker)."""
-    return [(i, j, {c: C.CLAIMS[c](f, r) for c in claims}) for i, j, f, r in points]
-
-
-def _chunks(grid, size):
-    pts = grid.points()
-    return [pts[k:k + size] for k in range(0, len(pts), size)]
+    def blocks(self, chunk):
+        """``[(k, rows, cols)]``: the ``chunk x chunk`` blocks (slices; the last ones are cut at the
+        edge), row-major."""
+        rows, cols = self.shape
+        return [(k, slice(i, min(i + chunk, rows)), slice(j, min(j + chunk, cols)))
+                for k, (i, j) in enumerate((i, j) for i in range(0, rows, chunk) for j in range(0, cols, chunk))]
 
 
-def compute(claims, n, *, scheduler=None, workers=2, chunk=CHUNK, progress=None, client=None):
-    """The atlas values ``{claim: [[value per f/F] per R]}`` and the run's ``stats``.
+def evaluate_block(grid, rows, cols, claims) -> dict:
+    """Every claim at every point of one block: the store's variables as arrays of its shape."""
+    fF, R = grid.fF, grid.R
+    points = [[C.evaluate(float(fF[j]), float(R[i]), claims) for j in range(cols.start, cols.stop)]
+              for i in range(rows.start, rows.stop)]
+    return store.encode(claims, points)
 
-    ``client``: an existing ``distributed.Client`` (tests), else one on ``scheduler`` or on a new
-    ``LocalCluster(n_workers=workers, threads_per_worker=1)``."""
+
+def run_block(path, grid, k, rows, cols, claims):
+    """One task (runs on a worker): compute the block, write it and its done markers; returns
+    ``(k, points, seconds, cpu seconds)`` (the worker's CPU time: what the block costs on a
+    machine it shares)."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    store.write_block(path, rows, cols, evaluate_block(grid, rows, cols, claims))
+    return (k, (rows.stop - rows.start) * (cols.stop - cols.start), time.perf_counter() - t0,
+            time.process_time() - c0)
+
+
+def check_args(claims, grid, workers, chunk):
     unknown = [c for c in claims if c not in C.CLAIMS]
-    if unknown:
+    if unknown or not claims:
         raise ValueError(f"unknown atlas claim(s) {unknown}; known: {', '.join(C.CLAIMS)}")
-    if not (isinstance(n, int) and 2 <= n <= 512):
-        raise ValueError(f"grid must be an int in [2, 512], got {n!r}")
+    if not isinstance(grid, Grid):
+        raise TypeError(f"grid must be a Grid (Grid.parse('64x32')), got {grid!r}")
     if not (isinstance(workers, int) and 1 <= workers <= 256):
         raise ValueError(f"workers must be an int in [1, 256], got {workers!r}")
+    if not (isinstance(chunk, int) and 1 <= chunk <= 1024):
+        raise ValueError(f"chunk must be an int in [1, 1024], got {chunk!r}")
+
+
+def compute(claims, grid, out_dir, *, scheduler=None, workers=2, chunk=None, progress=None,
+            client=None, command=None) -> dict:
+    """Fill ``out_dir/atlas.zarr``, resuming it if it exists; returns the run's ``stats``.
+
+    ``chunk``: points per side of a block (default ``grid.default_chunk()``); ``client``: an
+    existing ``distributed.Client`` (tests), else one on ``scheduler`` or on a new
+    ``LocalCluster(n_workers=workers, threads_per_worker=1)``.  Bad input, a store of another
+    atlas or an unreachable scheduler: ``ValueError`` (before anything is written)."""
+    import pathlib
+
+    chunk = grid.default_chunk() if chunk is None and isinstance(grid, Grid) else chunk
+    check_args(claims, grid, workers, chunk)
+    claims = [c for c in C.CLAIMS if c in claims]           # one order: the store's identity
     try:
-        from distributed import Client, LocalCluster, as_completed
+        import distributed  # noqa: F401
+        import xarray  # noqa: F401
+        import zarr  # noqa: F401
     except ModuleNotFoundError as exc:
-        raise ValueError("the atlas needs dask.distributed: python -m pip install -e '.[atlas]'") from exc
-
-    grid = Grid(n)
-    own = client is None
-    cluster = None
-    if own:
-        if scheduler:
-            client = Client(scheduler)
-        else:
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=":0")
-            client = Client(cluster)
-    try:
-        chunks = _chunks(grid, chunk)
-        t0 = time.perf_counter()
-        futures = {client.submit(evaluate_chunk, pts, tuple(claims), key=f"atlas-{k}-{n}-{'+'.join(claims)}",
-                                 retries=RETRIES, pure=False): k for k, pts in enumerate(chunks)}
-        results = [None] * len(chunks)
-        for done, fut in enumerate(as_completed(futures), 1):
-            results[futures[fut]] = fut.result()
-            if progress:
-                rate = done * chunk / (time.perf_counter() - t0)
-                eta = (len(chunks) - done) * chunk / rate
-                progress(f"atlas: chunk {done}/{len(chunks)}, {rate:.1f} points/s, ETA {eta:.0f} s")
-        seconds = time.perf_counter() - t0
-        n_workers = len(client.scheduler_info()["workers"])
-    finally:
-        if own:
-            client.close()
-            if cluster is not None:
-                cluster.close()
-    values = {c: [[None] * len(grid.fF) for _ in grid.R] for c in claims}
-    for chunk_out in results:
-        for i, j, vals in chunk_out:
-            for c in claims:
-                values[c][i][j] = vals[c]
-    stats = {"seconds": seconds, "points": len(grid.points()), "workers": n_workers,
-             "points_per_second": len(grid.points()) / seconds}
-    return grid, values, stats
+        raise ValueError(f"the atlas needs {exc.name}: python -m pip install -e '.[atlas]'") from None
+    path = store.locate(pathlib.Path(out_dir).resolve())
+    existed = store.check(path, grid, claims, chunk)
+    blocks = grid.blocks(chunk)
+    done = store.done_blocks(path, blocks) if existed else set()
+    say = progress or (lambda _msg: None)
+    if done:
+        ids = sorted(done)
+        shown = ", ".join(map(str, ids[:40])) + (", ..." if len(ids) > 40 else "")
+        say(f"atlas: resuming {path}: {len(done)} of {len(blocks)} chunks already written, skipped: {shown}")
+    todo = [b for b in blocks if b[0] not in done]
+    stats = {"chunks": len(blocks), "skipped": len(done), "computed": 0, "points": 0, "seconds": 0.0,
+             "workers": 0, "task_seconds": 0.0, "task_cpu_seconds": 0.0}
+    if not todo:
+        return stats
+    with _client(client, scheduler, workers) as client:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        store.prepare(path, grid, claims, chunk, provenance(grid, claims, chunk, command))
+        _run(client, path, grid, claims, todo, stats, say)
+    stats["points_per_second"] = stats["points"] / stats["seconds"]
+    stats["points_per_second_per_worker"] = stats["points"] / stats["task_seconds"]
+    stats["points_per_cpu_second"] = stats["points"] / stats["task_cpu_seconds"]
+    return stats
 
 
-def provenance(grid, claims, stats) -> dict:
+@contextlib.contextmanager
+def _client(client, scheduler, workers):
+    """The given client, or one on ``scheduler``, or on a new ``LocalCluster`` (closed after)."""
+    if client is not None:
+        yield client
+        return
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        try:
+            own = Client(scheduler, timeout=CONNECT_TIMEOUT)
+        except (OSError, TimeoutError) as exc:
+            raise ValueError(f"cannot reach the dask scheduler at {scheduler!r} within "
+                             f"{CONNECT_TIMEOUT} ({type(exc).__name__}: {exc})") from None
+        with own:
+            yield own
+        return
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                      dashboard_address=":0") as cluster, Client(cluster) as own:
+        yield own
+
+
+def _run(client, path, grid, claims, todo, stats, say):
+    """Submit one task per block still to do, count them in as they complete (any order)."""
+    from distributed import as_completed
+
+    t0 = time.perf_counter()
+    token = uuid.uuid4().hex[:12]
+    futures = [client.submit(run_block, str(path), grid, k, rows, cols, tuple(claims),
+                             key=f"atlas-{token}-{k}", retries=RETRIES, pure=False)
+               for k, rows, cols in todo]
+    total = sum((r.stop - r.start) * (c.stop - c.start) for _, r, c in todo)
+    for n, fut in enumerate(as_completed(futures), 1):
+        k, points, seconds, cpu = fut.result()
+        stats["computed"] += 1
+        stats["points"] += points
+        stats["task_seconds"] += seconds
+        stats["task_cpu_seconds"] += cpu
+        rate = stats["points"] / (time.perf_counter() - t0)
+        say(f"atlas: chunk {k} written ({n}/{len(todo)}), {rate:.1f} points/s, "
+            f"ETA {(total - stats['points']) / rate:.0f} s")
+    stats["seconds"] = time.perf_counter() - t0
+    stats["workers"] = len(client.scheduler_info()["workers"])
+
+
+def provenance(grid, claims, chunk, command=None) -> dict:
     import platform
 
     import dask
     import distributed
     import mpmath
     import numba
+    import xarray
+    import zarr
 
-    return {"generator": "python -m cross_check atlas", "claims": list(claims), "grid": grid.n,
+    if command is None:
+        command = " ".join(["python -m cross_check atlas", "--grid", grid.name, "--chunk", str(chunk),
+                            "--claim", *claims])
+    return {"generator": "python -m cross_check atlas", "command": command,
+            "grid_axes": "NFxNR: NF f/F cells (columns, after the f = 0 column) by NR w^2 R/F rows",
             "scene": "F = 1, f = f/F, omega = 1, l = 0, r = w^2 R/F (dimensionless)",
-            "f_over_F": "0 then (j + 1/2)/n, j < n", "w2R_over_F": f"log-spaced cell centres of {list(R_RANGE)}",
             "versions": {"python": platform.python_version(), "numpy": np.__version__, "numba": numba.__version__,
                          "mpmath": mpmath.__version__, "dask": dask.__version__,
-                         "distributed": distributed.__version__}}
+                         "distributed": distributed.__version__, "xarray": xarray.__version__,
+                         "zarr": zarr.__version__}}
 
 
-def write(out_dir, grid, values, stats, claims) -> dict:
-    """``atlas.json`` (grid, values, boundaries, provenance; no timings, so reruns are identical),
-    ``atlas_stats.json`` (timings) and one PNG per claim; returns the boundary table."""
+def summarize(out_dir) -> dict:
+    """From the store: ``atlas.json`` (the boundaries table and the counts; nothing run-specific)
+    and one PNG per claim; returns the boundary table."""
     import json
     import pathlib
 
     from cross_check.atlas import maps
 
+    ds = store.open_atlas(out_dir).load()
     out = pathlib.Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    bounds = {k: {"worst_cells": v[0], "lines": v[1]} for k, v in maps.boundaries(grid, values).items()}
-    data = {"provenance": provenance(grid, claims, stats), "f_over_F": grid.fF.tolist(),
-            "w2R_over_F": grid.R.tolist(), "values": values, "boundaries": bounds}
-    (out / "atlas.json").write_text(json.dumps(data, indent=None, sort_keys=False, default=float) + "\n")
-    (out / "atlas_stats.json").write_text(json.dumps(stats, indent=1) + "\n")
-    maps.draw(grid, values, str(out))
+    bounds = {k: {"worst_cells": v[0], "lines": v[1]} for k, v in maps.boundaries(ds).items()}
+    data = {"store": store.NAME, "grid": ds.attrs["grid"], "claims": ds.attrs["claims"],
+            "points": int(ds["done"].size), "counts": maps.counts(ds), "boundaries": bounds}
+    (out / "atlas.json").write_text(json.dumps(data, indent=1) + "\n")
+    maps.draw(ds, str(out))
     return bounds
 
 
 def main(argv=None) -> int:
-    """``python -m cross_check atlas [--claim ID ...] [--grid N] [--scheduler ADDRESS] [--workers K] [--out DIR]``."""
+    """``python -m cross_check atlas`` (module docstring); exit 0, or 2 for bad input."""
     import argparse
+    import json
+    import pathlib
 
     parser = argparse.ArgumentParser(
         prog="python -m cross_check atlas",
-        description="Where each claim holds: the claims evaluated on an N x N grid of (f/F, w^2 R/F) with "
-                    "fast, violations confirmed by the reference, on Dask (a local cluster by default).  "
-                    "Writes atlas.json and one PNG per claim with the closed-form boundaries.")
+        description="Where each claim holds: the claims evaluated on a grid of (f/F, w^2 R/F) with fast, "
+                    "violations confirmed by the reference, on Dask (a local cluster by default).  Writes "
+                    "DIR/atlas.zarr (an xarray Dataset, chunk by chunk; rerun the same command to resume a "
+                    "stopped run), DIR/atlas.json (boundaries table, counts) and one PNG per claim.  "
+                    "Exit status: 0 done, 2 bad input (or DIR holds another atlas).")
     parser.add_argument("--claim", nargs="+", choices=list(C.CLAIMS), default=list(C.CLAIMS),
                         help="claims to map (default: all)")
-    parser.add_argument("--grid", type=int, default=64, help="N: the grid is N x N (+ the f = 0 column); default 64")
+    parser.add_argument("--grid", default="64", help="N (an N x N grid) or NFxNR: NF f/F columns (plus f = 0) "
+                        "by NR w^2 R/F rows, e.g. 256x64; default 64")
+    parser.add_argument("--chunk", type=int, default=None, help=f"points per side of a task's block and "
+                        f"of a zarr chunk (default {CHUNK}, fewer on grids smaller than {4 * CHUNK})")
     parser.add_argument("--scheduler", default=None, help="tcp://HOST:PORT of a running dask scheduler")
     parser.add_argument("--workers", type=int, default=2, help="local worker processes (default 2)")
     parser.add_argument("--out", default="atlas", help="output directory (default: atlas/)")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
+    log = lambda m: print(f"[{time.perf_counter() - t0:6.1f}s] {m}", file=sys.stderr, flush=True)  # noqa: E731
     try:
-        grid, values, stats = compute(args.claim, args.grid, scheduler=args.scheduler, workers=args.workers,
-                                      progress=lambda m: print(f"[{time.perf_counter() - t0:6.1f}s] {m}",
-                                                               file=sys.stderr, flush=True))
+        grid = Grid.parse(args.grid)
+        stats = compute(args.claim, grid, args.out, scheduler=args.scheduler, workers=args.workers,
+                        chunk=args.chunk, progress=log)
     except ValueError as exc:
         print(f"atlas: {exc}", file=sys.stderr)
         return 2
-    bounds = write(args.out, grid, values, stats, args.claim)
+    bounds = summarize(args.out)
+    (pathlib.Path(args.out) / "atlas_stats.json").write_text(json.dumps(stats, indent=1) + "\n")
     for name, b in bounds.items():
         worst = "n/a" if b["worst_cells"] is None else f"{b['worst_cells']:.2f}"
         print(f"{name}: computed switch within {worst} grid cells ({b['lines']} lines)", file=sys.stderr)
-    print(f"{args.out}/atlas.json")
+    print(store.locate(args.out))
     return 0

@@ -61,11 +61,8 @@ class _Fast:
 
     def map_jac(self, scene, x, v, k):
         import fast
-        J = np.broadcast_to(np.eye(2), x.shape + (2, 2)).copy()
-        for _ in range(k):
-            x, v, Jj, _ = fast.map_and_jacobian(scene, x, v)
-            J = np.asarray(Jj, float) @ J
-        return np.asarray(x, float), np.asarray(v, float), J
+        x, v, J, _ = fast.map_and_jacobian(scene, x, v, periods=k)
+        return np.asarray(x, float), np.asarray(v, float), np.asarray(J, float)
 
     def asarray(self, a):
         return np.atleast_1d(np.asarray(a, float)).copy()
@@ -185,8 +182,9 @@ def newton(scene, x, v, *, period=1, engine=FAST, tol=None, max_iter=MAX_NEWTON,
 
     ``tol`` (default the engine's: 1e-11 in float64, ``10^(8 - dps)`` for the reference) is on
     ``|G| / max(1, |z|)`` (max norm).  ``v_bounds = (lo, hi)`` keeps iterates there (a wild
-    step to a huge speed would cost millions of impacts per period); default ``|v| <= 10
-    (max |v0| + F/w)``.  Items without descent or with a non-finite Jacobian stop (not
+    step to a huge speed would cost millions of impacts per period); ``lo, hi`` are numbers or
+    arrays of the seeds' shape (one interval per seed: a batch then runs each seed exactly as
+    alone); default ``|v| <= 10 (max |v0| + F/w)`` over the batch.  Items without descent or with a non-finite Jacobian stop (not
     converged).  Each iteration costs one ``map_jac`` per trial point (the Jacobian of an
     accepted trial is kept for the next step).
     """
@@ -216,7 +214,8 @@ class _State:
     """The batch of a ``newton`` run: iterates, residuals, ``J_k`` there, who is still active."""
 
     def __init__(self, scene, engine, x, v, period, clip, v_bounds):
-        self.scene, self.engine, self.period, self.clip, self.v_bounds = scene, engine, period, clip, v_bounds
+        self.scene, self.engine, self.period, self.clip = scene, engine, period, clip
+        self.v_lo, self.v_hi = (np.broadcast_to(np.asarray(b, x.dtype), x.shape) for b in v_bounds)
         self.x, self.v = x, v
         self.gx, self.gv, self.J = self._residual(x, v)
         self.res = self._norm(self.gx, self.gv, x, v)
@@ -250,7 +249,8 @@ class _State:
                 return
             p = np.flatnonzero(pending)
             xn = self.clip(self.x[idx[p]] + lam[p] * dx[p])
-            vn = np.minimum(np.maximum(self.v[idx[p]] + lam[p] * dv[p], self.v_bounds[0]), self.v_bounds[1])
+            q = idx[p]
+            vn = np.minimum(np.maximum(self.v[q] + lam[p] * dv[p], self.v_lo[q]), self.v_hi[q])
             nx, nv, nJ = self._residual(xn, vn)
             rn = self._norm(nx, nv, xn, vn)
             take = self.engine.finite(rn) & (rn < self.res[idx[p]])

@@ -1,4 +1,6 @@
-"""Assemble the V&V report: ``python -m cross_check report [--out DIR] [--quick] [--skip-claims]``.
+"""Assemble the V&V report: ``python -m cross_check report [--out DIR] [--quick] [--skip-claims]
+[--scenes-file FILE] [--scene "F=1 f=0.3 omega=1 l=0 r=3"]`` (user scenes, ``cross_check.scenefile``:
+the agreement and hard-case sections run on them instead of the built-in scenes).
 
 Writes ``report.md`` and ``work_precision.png`` into ``--out`` (default ``report/``), section by
 section (``sections``, ``precision``, ``plots``):
@@ -19,12 +21,13 @@ a minute on two cores, ``--quick`` about 10 s.
 """
 from __future__ import annotations
 
+import dataclasses
 import pathlib
 import sys
 import time
 from dataclasses import dataclass
 
-from cross_check import scenes
+from cross_check import scenefile, scenes
 from cross_check.agreement import baseline, compare
 from cross_check.report import plots, precision, sections
 from cross_check.report.sections import REF_DPS, TRUTH_DPS
@@ -153,12 +156,17 @@ def _markdown(parts: dict, errors: list, plan: Plan, quick: bool) -> list[str]:
     return lines + ["", "## Machine, versions, seeds", ""] + sections.machine_section(plan.n_sample, quick)
 
 
-def build(out_dir, quick: bool = False, claims: bool = True, atlas_dir="atlas") -> tuple[pathlib.Path, list]:
+def build(out_dir, quick: bool = False, claims: bool = True, atlas_dir="atlas",
+          scene_names=None) -> tuple[pathlib.Path, list]:
     """Compute everything and write ``report.md`` + PNGs into ``out_dir``; return the path
     and the list of parts that failed (they are listed in the report too).
 
-    ``claims=False`` leaves the claims section out (they have their own tests and command)."""
+    ``claims=False`` leaves the claims section out (they have their own tests and command);
+    ``scene_names`` (registered scenes: ``cross_check.scenefile``) replaces the plan's scenes of
+    the agreement and hard-case sections."""
     plan = QUICK if quick else FULL
+    if scene_names:
+        plan = dataclasses.replace(plan, scenes=tuple(scene_names), hard_scenes=tuple(scene_names))
     progress = Progress()
     out = pathlib.Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -190,9 +198,16 @@ def main(argv=None) -> int:
                         "atlas); its maps are shown when present (default: atlas/)")
     parser.add_argument("--skip-claims", action="store_true",
                         help="leave out the claims table (python -m cross_check claims runs it alone)")
+    scenefile.add_arguments(parser, "agreement and hard cases on")
     args = parser.parse_args(argv)
     try:
-        path, errors = build(args.out, args.quick, claims=not args.skip_claims, atlas_dir=args.atlas)
+        user = scenefile.from_args(args)
+    except scenefile.SceneFileError as exc:
+        print(f"report: {exc}", file=sys.stderr)
+        return 2
+    try:
+        path, errors = build(args.out, args.quick, claims=not args.skip_claims, atlas_dir=args.atlas,
+                             scene_names=user)
     except RuntimeError as exc:
         print(f"report: {exc}", file=sys.stderr)
         return 1

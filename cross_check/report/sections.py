@@ -269,29 +269,36 @@ def machine_section(n_sample: int, quick: bool) -> list[str]:
 
 
 def atlas_section(atlas_dir, report_dir) -> list[str]:
-    """The atlas's maps and boundary table when ``atlas_dir/atlas.json`` exists, else how to make one."""
-    import json
-    import os
+    """The atlas's boundary table and maps, read from ``atlas_dir/atlas.zarr`` through xarray
+    (the maps drawn from the store into the report when the atlas's own PNGs are missing), or
+    how to make one."""
     import pathlib
 
-    path = pathlib.Path(atlas_dir) / "atlas.json"
-    if not path.exists():
-        return [f"No atlas in `{atlas_dir}/` yet.  Make one (64 x 64, about 25 s on 2 workers): "
-                "`python -m pip install -e '.[atlas]' && python -m cross_check atlas`; the report then "
-                "shows its maps here."]
-    data = json.loads(path.read_text())
-    prov = data["provenance"]
-    lines = [f"{prov['grid']} x {prov['grid']} grid of (f/F, w^2 R/F), {prov['scene']}; claims: "
-             f"{', '.join(prov['claims'])}.  Computed switch against each closed form, in grid cells:", "",
+    make = ("`python -m pip install -e '.[atlas]' && python -m cross_check atlas`; the report then "
+            "shows its maps here.")
+    if not (pathlib.Path(atlas_dir) / "atlas.zarr").exists():
+        return ([f"No atlas in `{atlas_dir}/` yet.  Make one (64 x 64, about 40 CPU seconds): " + make]
+                + proved_atlas_lines(atlas_dir, report_dir))
+    try:
+        from cross_check.atlas import maps, open_atlas
+        ds = open_atlas(atlas_dir).load()
+    except (ImportError, ValueError) as exc:
+        return ([f"The atlas in `{atlas_dir}/` cannot be shown: {exc}.  " + make]
+                + proved_atlas_lines(atlas_dir, report_dir))
+    nf, nr = ds.sizes["f_over_F"] - 1, ds.sizes["w2R_over_F"]
+    lines = [f"{nf} x {nr} grid of (f/F, w^2 R/F) (+ the f = 0 column), {ds.attrs['scene']}; claims: "
+             f"{', '.join(ds.attrs['claims'])}; store `{atlas_dir}/atlas.zarr` "
+             f"(`cross_check.atlas.open_atlas`).  Computed switch against each closed form, in grid cells:", "",
              "| closed-form boundary | worst distance (cells) | lines compared |", "|---|---|---|"]
-    for name, b in data["boundaries"].items():
-        worst = "-" if b["worst_cells"] is None else f"{b['worst_cells']:.2f}"
-        lines.append(f"| {name} | {worst} | {b['lines']} |")
+    for name, (worst, n) in maps.boundaries(ds).items():
+        lines.append(f"| {name} | {'-' if worst is None else f'{worst:.2f}'} | {n} |")
     lines.append("")
-    for claim in prov["claims"]:
-        png = pathlib.Path(atlas_dir) / f"atlas_{claim}.png"
-        if png.exists():
-            lines += [f"![atlas {claim}]({os.path.relpath(png, report_dir)})", ""]
+    pngs = [pathlib.Path(atlas_dir) / f"atlas_{claim}.png" for claim in ds.attrs["claims"]]
+    if not all(p.exists() for p in pngs):
+        pathlib.Path(report_dir).mkdir(parents=True, exist_ok=True)
+        pngs = [pathlib.Path(p) for p in maps.draw(ds, str(report_dir))]
+    for claim, png in zip(ds.attrs["claims"], pngs):
+        lines += [f"![atlas {claim}]({os.path.relpath(png, report_dir)})", ""]
     return lines + proved_atlas_lines(atlas_dir, report_dir)
 
 
@@ -299,7 +306,6 @@ def proved_atlas_lines(atlas_dir, report_dir) -> list[str]:
     """The proved atlas (``python -m cross_check prove --atlas``) when ``proved_atlas_meta.json``
     exists: per claim the boxes proved for every parameter, against the numerical region."""
     import json
-    import os
     import pathlib
 
     path = pathlib.Path(atlas_dir) / "proved_atlas_meta.json"

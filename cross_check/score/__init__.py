@@ -23,18 +23,38 @@ An adapter is any object with
 
 Plain floats and numpy arrays only: wrapping an engine takes a few lines (``adapters`` holds
 ``fast``, ``reference``, scipy's ``solve_ivp`` and heyoka.py as examples).  An exception or a
-non-finite result on a start is a *failure* of that start, recorded, not a crash.
+non-finite result on a start, or no result within the time budget, is a *failure* of that
+start, recorded, not a crash; a result of the wrong type or shape is a bad adapter (``protocol``).
 
-* ``card``     -- ``score(adapter, scenes=..., periods=(1, 10))`` -> ``Scorecard`` (markdown, JSON),
-  and the CLI ``python -m cross_check score MODULE:NAME [--scenes ...] [--out DIR]``;
-* ``golden``   -- the golden cases as plain objects (``GoldenCase``), with their kind;
+* ``card``     -- ``score(adapter, scenes=..., periods=(1, 10), case_timeout=10)`` -> ``Scorecard``
+  (markdown, JSON), and the CLI ``python -m cross_check score MODULE:NAME [--scenes ...] [--out DIR]
+  [--case-timeout S] [--in-process]``;
+* ``sheet``    -- the scorecard as data: rows, grades per kind, JSON and markdown;
+* ``golden``   -- the golden cases as plain objects (``GoldenCase``), with their kind, and what
+  usually makes an integrator time out on each kind;
+* ``protocol`` -- the protocol checked: ``load_adapter``, ``BadAdapter`` (exit status 2);
+* ``runner``, ``isolate`` -- the time budget: an adapter given by its spec runs in a worker
+  process killed when a call runs over (``spawn``), one process per run, restarted only after a
+  timeout; an adapter object runs in process, where the budget is checked after each call;
 * ``adapters`` -- the shipped adapters;
 * ``plugin``   -- the pytest plugin (entry point ``pytest11``): a ``golden_case`` fixture, one
-  test per golden case.
+  test per golden case, each run in a worker process with ``--golden-timeout`` seconds.
 
 May import ``cross_check.golden``, ``scenes``, ``agreement``, ``tolerances``, ``reference`` and
-``fast``; the report imports it, nothing else does.
+``fast``; the report imports it, nothing else does.  The names below are imported on first use,
+so that a worker process importing ``cross_check.score.protocol`` starts light.
 """
-from cross_check.score.card import Scorecard, load_adapter, main, score
+import importlib
 
-__all__ = ["Scorecard", "load_adapter", "main", "score"]
+_EXPORTS = {"Scorecard": "cross_check.score.sheet", "score": "cross_check.score.card",
+            "main": "cross_check.score.card", "load_adapter": "cross_check.score.protocol",
+            "BadAdapter": "cross_check.score.protocol"}
+
+
+def __getattr__(name):
+    if name in _EXPORTS:
+        return getattr(importlib.import_module(_EXPORTS[name]), name)
+    raise AttributeError(f"module 'cross_check.score' has no attribute {name!r}")
+
+
+__all__ = ["BadAdapter", "Scorecard", "load_adapter", "main", "score"]

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from cross_check.agreement import baseline
 from reference.scene import EFFECTS, Scene
 
 
@@ -79,6 +78,7 @@ class BaselineAdapter:
         self.name, self.method, self.rtol, self.flight = name, method, rtol, flight
 
     def _runs(self, params, x, v, periods):
+        from cross_check.agreement import baseline      # scipy: imported when used (a worker loading fast starts light)
         sc = scene_of(params)
         return [baseline.stroboscopic(sc, float(a), float(b), periods, self.method, self.rtol, flight=self.flight)
                 for a, b in zip(x, v)]
@@ -155,16 +155,4 @@ def canonical_log(row, scene) -> list:
     return compare.canonical([compare.Event(str(e[0]), *(float(a) for a in e[1:5])) for e in row], scene)
 
 
-def finite_pair(out, n):
-    """``(x, v)`` float64 arrays of length ``n`` from an adapter's ``step``, or ``TypeError``."""
-    if not (isinstance(out, tuple) and len(out) == 2):
-        raise TypeError(f"step must return a pair (x, v) of arrays, got {type(out).__name__}")
-    x, v = (np.asarray(a) for a in out)
-    if x.shape != (n,) or v.shape != (n,) or not (np.issubdtype(x.dtype, np.floating)
-                                                  and np.issubdtype(v.dtype, np.floating)):
-        raise TypeError(f"step must return two float arrays of shape ({n},), got {x.dtype}{x.shape}, "
-                        f"{v.dtype}{v.shape}")
-    return x.astype(float), v.astype(float)
-
-
-__all__ = ["FAST", "REFERENCE", "SCIPY", "SHIPPED", "canonical_log", "heyoka", "scene_of", "finite_pair"]
+__all__ = ["FAST", "REFERENCE", "SCIPY", "SHIPPED", "canonical_log", "heyoka", "scene_of"]

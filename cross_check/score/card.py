@@ -11,61 +11,46 @@ skipped), on the float64 input of every golden case (``score.golden``):
   them beside the floor, not as a grade);
 * **itinerary**, where the adapter gives events: both logs in ``compare.canonical`` form,
   *missed* (golden kinds the adapter lacks) and *invented* (the reverse), counted per kind;
-* **failures**: exceptions and non-finite results, per start;
+* **failures**: exceptions, non-finite results, and **timeouts**, per start;
 * **time** per trajectory-period: the whole scene's batch in one ``step`` call.
 
-Per kind, a one-line grade from the cases outside the band, on *graded digits*: the digits,
-credited with what the exact map itself loses to float64 (``15.95 - floor digits`` where the
-one-ulp floor is above one ulp: near a graze ``Phi`` has a square-root singularity and no float64
-start fixes it better).  ``A``: worst graded error within ``score_grade_a``; ``B``:
-``score_grade_b``; ``C``: ``score_flag``; ``F``: below it, or an event missed or invented, or a
-failure (*flagged*).  Band cases are listed apart, never graded.
+Grades per kind: ``sheet``.  **Time budget**: every call on a start has ``case_timeout``
+seconds; a start without a result in time is a failure of kind ``timeout`` and the run goes on.
+The first call of ``step`` and of ``events`` on each set of effects in a run is a warm-up on a
+start that neither sticks nor chatters, with ``first_call_timeout`` (a JIT may compile a new
+code path there), its outcome thrown away (``runner``).  An adapter given by its
+``MODULE:NAME`` spec runs in a worker process that is killed when a call runs over (``runner``,
+``isolate``); an adapter object runs in process, where the budget is checked after each call.
+A start whose one-period call ran out of time is not tried over ten periods (the same work
+comes first there).
 """
 from __future__ import annotations
 
 import argparse
 import collections
-import importlib
-import json
+import contextlib
 import math
+import os
 import pathlib
+import signal
 import sys
+import threading
 import time
-from dataclasses import dataclass, field
+import traceback
 
 import numpy as np
 
+from cross_check import golden, scenefile
 from cross_check import scenes as scene_table
 from cross_check.agreement import compare
-from cross_check.score import adapters
-from cross_check.score.golden import KINDS, scene_cases
-from cross_check.tolerances import tol
+from cross_check.score import adapters, isolate, runner
+from cross_check.score.golden import easiest, golden_scene, scene_cases, timeout_message, warmup_case
+from cross_check.score.protocol import BadAdapter, load_adapter
+from cross_check.score.sheet import CaseScore, Scorecard
 
 TEN_DPS = 40          # the reference's digits for the ten-period truth
 TEN_STATES = 2        # sample states per scene scored over ten periods
-FULL_DIGITS = -math.log10(2.0 ** -53)    # 15.95: one ulp, relative
-
-
-@dataclass
-class CaseScore:
-    """One golden case as the adapter did it."""
-
-    id: str
-    kind: str
-    band: bool
-    digits: float | None = None          # None: failed
-    floor_digits: float | None = None
-    missed: dict = field(default_factory=dict)
-    invented: dict = field(default_factory=dict)
-    failure: str | None = None
-
-    @property
-    def graded(self) -> float | None:
-        """``digits`` credited with the exact map's own loss to float64 (module docstring)."""
-        if self.digits is None:
-            return None
-        credit = 0.0 if self.floor_digits is None else max(0.0, FULL_DIGITS - self.floor_digits)
-        return min(compare.DIGITS_CAP, self.digits + credit)
+CASE_TIMEOUT, FIRST_CALL_TIMEOUT = runner.CASE_TIMEOUT, runner.FIRST_CALL_TIMEOUT
 
 
 def _digits(pair, case) -> float:
@@ -80,228 +65,261 @@ def _itinerary(case, got, scene):
     return dict(want - have), dict(have - want)
 
 
-def _safe(fn, *args):
+def _failed(s: CaseScore, out: runner.Outcome, what: str = "") -> CaseScore:
+    s.failure_kind = out.kind
+    if out.kind == "timeout":
+        s.failure = timeout_message(s.id, s.kind, out.budget, what + out.failure)
+    else:
+        s.failure = f"{what}{out.kind}: {out.failure}" if out.kind == "crash" else what + out.failure
+    return s
+
+
+def _case_score(case, out: runner.Outcome) -> CaseScore:
+    s = CaseScore(case.id, case.kind, case.band)
+    if out.failure is not None:
+        return _failed(s, out)
+    x, v = (float(a) for a in out.value)
+    if not (math.isfinite(x) and math.isfinite(v)):
+        s.failure, s.failure_kind = f"non-finite result {(x, v)}", "non-finite"
+        return s
+    s.digits = _digits((x, v), case)
+    floor = case.ulp_floor()
+    s.floor_digits = None if floor is None else -math.log10(floor)
+    return s
+
+
+def score_scene(adapter, name: str, periods=(1, 10), *, run=None, budget=None, say=None,
+                golden_dir=None) -> dict:
+    """Every golden case of one scene: ``{"cases": [CaseScore], "seconds_per_period", "ten", "mode"}``.
+    ``run``: a ``runner`` (default: one for ``adapter``, closed after); ``budget``: a
+    ``runner.Budget`` (default: the module's); ``golden_dir``: the golden data (default: shipped)."""
+    own = run is None
+    run = runner.runner(adapter) if own else run
+    budget = budget or runner.Budget(CASE_TIMEOUT, FIRST_CALL_TIMEOUT)
     try:
-        return fn(*args), None
-    except Exception as exc:  # noqa: BLE001 -- an adapter's exception is its failure, recorded
-        return None, f"{type(exc).__name__}: {str(exc)[:200]}"
+        cases = scene_cases(name, golden_dir)
+        sc = golden_scene(name, golden_dir)
+        params = dict(cases[0].params)
+        X, V = np.array([c.x for c in cases]), np.array([c.v for c in cases])
+        names = [f"{c.id} [{c.kind}]" for c in cases]
+        for method in ("step", "events") if run.meta["events"] else ("step",):
+            if budget.first_time((method, sc.effects)):
+                w = warmup_case(sc.effects, golden_dir) or cases[easiest(cases)]
+                runner.warm_up(run, method, w.params, w.x, w.v, budget, f"{w.id} [{w.kind}]", say)
+        steps, seconds, mode = runner.run_starts(run, "step", params, X, V, 1, budget, names, say, easiest(cases))
+        out = [_case_score(c, o) for c, o in zip(cases, steps)]
+        ok = [i for i, s in enumerate(out) if s.failure is None]
+        if run.meta["events"] and ok:
+            logs, _, _ = runner.run_starts(run, "events", params, X[ok], V[ok], None, budget,
+                                           [names[i] for i in ok], say, easiest([cases[i] for i in ok]))
+            for i, log in zip(ok, logs):
+                if log.failure is None:
+                    out[i].missed, out[i].invented = _itinerary(cases[i], log.value, sc)
+                elif log.kind in ("timeout", "crash"):    # an exception there: the itinerary is not scored
+                    _failed(out[i], log, "events: ")
+        ten = _ten_periods(run, params, sc, cases, out, budget, say) if 10 in periods else []
+    finally:
+        if own:
+            run.close()
+    return {"cases": out, "seconds_per_period": seconds / len(cases), "ten": ten, "mode": mode}
 
 
-def _step_each(adapter, params, X, V, periods):
-    """The batch in one call (timed, after an untimed warm-up call on one start: a JIT or cache
-    load is not the adapter's speed); where it raises, start by start (failures recorded)."""
-    _safe(adapter.step, params, X[:1], V[:1], periods)
-    t0 = time.perf_counter()
-    out, err = _safe(lambda: adapters.finite_pair(adapter.step(params, X, V, periods), len(X)))
-    seconds = time.perf_counter() - t0
-    if err is None:
-        return [(out[0][i], out[1][i]) for i in range(len(X))], [None] * len(X), seconds
-    pairs, errors = [], []
-    for i in range(len(X)):
-        one, e = _safe(lambda: adapters.finite_pair(adapter.step(params, X[i:i + 1], V[i:i + 1], periods), 1))
-        pairs.append(None if one is None else (one[0][0], one[1][0]))
-        errors.append(e)
-    return pairs, errors, seconds
-
-
-def score_scene(adapter, name: str, periods=(1, 10)) -> dict:
-    """Every golden case of one scene: ``{"cases": [CaseScore], "seconds_per_period", "ten"}``."""
-    cases = scene_cases(name)
-    sc = scene_table.scene(name)
-    params = dict(cases[0].params)
-    X, V = np.array([c.x for c in cases]), np.array([c.v for c in cases])
-    pairs, errors, seconds = _step_each(adapter, params, X, V, 1)
-    logs = _safe(adapter.events, params, X, V)[0] if hasattr(adapter, "events") else None
+def _ten_periods(run, params, sc, cases, scores, budget, say):
+    """Digits after ten periods against the reference at ``TEN_DPS`` on sample states outside the
+    band (``None``: failed, or not tried because its first period ran out of time)."""
+    picked = [i for i, c in enumerate(cases) if c.name.startswith("sample") and not c.band][:TEN_STATES]
+    tried = [i for i in picked if scores[i].failure_kind not in ("timeout", "crash")]
+    got = {}
+    if tried:
+        outs, _, _ = runner.run_starts(run, "step", params, np.array([cases[i].x for i in tried]),
+                                       np.array([cases[i].v for i in tried]), 10, budget,
+                                       [f"{cases[i].id} [{cases[i].kind}] x10" for i in tried], say)
+        got = {i: o.value for i, o in zip(tried, outs) if o.failure is None}
     out = []
-    for i, c in enumerate(cases):
-        s = CaseScore(c.id, c.kind, c.band, failure=errors[i])
-        if pairs[i] is not None and not (math.isfinite(pairs[i][0]) and math.isfinite(pairs[i][1])):
-            s.failure = f"non-finite result {pairs[i]}"
-        elif pairs[i] is not None:
-            s.digits = _digits(pairs[i], c)
-            floor = c.ulp_floor()
-            s.floor_digits = None if floor is None else -math.log10(floor)
-        if logs is not None and s.failure is None:
-            s.missed, s.invented = _itinerary(c, logs[i], sc)
-        out.append(s)
-    ten = _ten_periods(adapter, params, sc, cases) if 10 in periods else []
-    return {"cases": out, "seconds_per_period": seconds / len(cases), "ten": ten}
-
-
-def _ten_periods(adapter, params, sc, cases):
-    """Digits after ten periods against the reference at ``TEN_DPS`` on sample states outside the band."""
-    picked = [c for c in cases if c.name.startswith("sample") and not c.band][:TEN_STATES]
-    if not picked:
-        return []
-    pairs, _errors, _ = _step_each(adapter, params, np.array([c.x for c in picked]),
-                                   np.array([c.v for c in picked]), 10)
-    out = []
-    for c, pair in zip(picked, pairs):
+    for i in picked:
+        if i not in got or not all(math.isfinite(float(a)) for a in got[i]):
+            out.append(None)
+            continue
+        c = cases[i]
         truth = compare.ref_map(sc, compare.Case(c.name, repr(c.x), repr(c.v), "float64", "golden input"), 10, TEN_DPS)
-        out.append(None if pair is None else min(compare.digits(pair[0], truth[0]),
-                                                 compare.digits(pair[1], truth[1])))
+        out.append(min(compare.digits(float(got[i][0]), truth[0]), compare.digits(float(got[i][1]), truth[1])))
     return out
 
 
-def _grade(worst: float | None, missed: int, invented: int, failures: int) -> str:
-    if failures or missed or invented or worst is None or worst < -math.log10(tol("score_flag").rtol):
-        return "F"
-    if worst >= -math.log10(tol("score_grade_a").rtol):
-        return "A"
-    return "B" if worst >= -math.log10(tol("score_grade_b").rtol) else "C"
-
-
-@dataclass
-class Scorecard:
-    """An adapter's scores: per case, per scene, and a grade per kind (module docstring)."""
-
-    adapter: str
-    cases: list
-    scenes: dict            # scene -> {"seconds_per_period", "ten"}
-    skipped: dict           # scene -> the effects the adapter lacks
-    events_scored: bool
-
-    def kinds(self) -> dict:
-        """Per kind (in ``KINDS`` order, kinds with cases only): counts, worst digits outside the
-        band, missed/invented events, failures, the grade and whether it is flagged."""
-        out = {}
-        for kind in KINDS:
-            rows = [c for c in self.cases if c.kind == kind]
-            if not rows:
-                continue
-            graded = [c for c in rows if not c.band]
-            digits = [c.digits for c in graded if c.digits is not None]
-            credited = [c.graded for c in graded if c.digits is not None]
-            missed = sum(sum(c.missed.values()) for c in graded)
-            invented = sum(sum(c.invented.values()) for c in graded)
-            failures = sum(1 for c in graded if c.failure is not None)
-            worst = min(credited) if credited else None
-            grade = _grade(worst, missed, invented, failures) if graded else "-"
-            floor_lost = [c.floor_digits - c.digits for c in graded
-                          if c.digits is not None and c.floor_digits is not None]
-            out[kind] = {"cases": len(rows), "band": len(rows) - len(graded), "worst_graded_digits": worst,
-                         "worst_digits": min(digits) if digits else None,
-                         "median_digits": float(np.median(digits)) if digits else None,
-                         "worst_digits_lost_to_floor": max(floor_lost) if floor_lost else None,
-                         "missed": missed, "invented": invented, "failures": failures,
-                         "grade": grade, "flagged": grade == "F"}
-        return out
-
-    def flagged(self) -> list[str]:
-        return [k for k, s in self.kinds().items() if s["flagged"]]
-
-    def to_dict(self) -> dict:
-        return {"adapter": self.adapter, "events_scored": self.events_scored, "kinds": self.kinds(),
-                "skipped_scenes": {k: sorted(v) for k, v in self.skipped.items()},
-                "scenes": self.scenes, "cases": [dict(vars(c), graded=c.graded) for c in self.cases]}
-
-    def to_json(self) -> str:
-        return json.dumps(self.to_dict(), indent=1, default=float) + "\n"
-
-    def to_markdown(self) -> str:
-        lines = [f"# Scorecard: {self.adapter}", "", "One line per kind of case, from the cases outside the "
-                 "near-grazing band (band cases are listed apart, not graded).  Digits: significant correct "
-                 "digits of Phi after one period against the 40-digit golden data; lost: digits below the "
-                 "one-ulp floor of the exact map.", "",
-                 "| kind | grade | cases (band) | worst graded digits | worst digits | median | worst lost to floor | "
-                 "missed | invented | failures |", "|---|---|---|---|---|---|---|---|---|---|"]
-        fmt = lambda a: "-" if a is None else f"{a:.1f}"     # noqa: E731
-        for kind, s in self.kinds().items():
-            lines.append(f"| {kind} | **{s['grade']}** | {s['cases']} ({s['band']}) | {fmt(s['worst_graded_digits'])} | "
-                         f"{fmt(s['worst_digits'])} | "
-                         f"{fmt(s['median_digits'])} | {fmt(s['worst_digits_lost_to_floor'])} | "
-                         f"{s['missed'] if self.events_scored else 'n/a'} | "
-                         f"{s['invented'] if self.events_scored else 'n/a'} | {s['failures']} |")
-        lines += ["", "| scene | s per trajectory-period | digits after 10 periods |", "|---|---|---|"]
-        lines += [f"| `{k}` | {v['seconds_per_period']:.2e} | "
-                  f"{', '.join(fmt(d) for d in v['ten']) or '-'} |" for k, v in self.scenes.items()]
-        if self.skipped:
-            lines += ["", "Skipped (effects the adapter does not declare): "
-                      + "; ".join(f"`{k}` ({', '.join(sorted(v))})" for k, v in self.skipped.items())]
-        bad = [c for c in self.cases if c.failure or c.missed or c.invented]
-        if bad:
-            lines += ["", "Cases with failures or a different itinerary (b: in the band):", ""]
-            lines += [f"- {c.id} [{c.kind}]{' (b)' if c.band else ''}: "
-                      + (c.failure or f"missed {c.missed or '-'}, invented {c.invented or '-'}") for c in bad[:60]]
-        return "\n".join(lines) + "\n"
-
-
-def _check_adapter(adapter):
-    for attr in ("name", "effects", "step"):
-        if not hasattr(adapter, attr):
-            raise TypeError(f"adapter {adapter!r} has no {attr!r} (protocol: cross_check.score)")
-    unknown = set(adapter.effects) - set(adapters.EFFECTS)
+def _check_effects(meta, who):
+    unknown = set(meta["effects"]) - set(adapters.EFFECTS)
     if unknown:
-        raise ValueError(f"adapter.effects has unknown effects {sorted(unknown)}; known: {adapters.EFFECTS}")
+        raise BadAdapter(f"adapter {who}: effects has unknown effects {sorted(unknown)}; known: {adapters.EFFECTS}")
 
 
-def score(adapter, *, scenes=None, periods=(1, 10), progress=None) -> Scorecard:
-    """Score ``adapter`` (protocol: ``cross_check.score``) on ``scenes`` (default: every scene with
-    golden data); ``periods`` ``(1,)`` or ``(1, 10)``."""
-    _check_adapter(adapter)
+def score(adapter, *, scenes=None, periods=(1, 10), progress=None, case_timeout: float = CASE_TIMEOUT,
+          first_call_timeout: float = FIRST_CALL_TIMEOUT, in_process: bool | None = None,
+          checkpoint=None, golden_dir=None) -> Scorecard:
+    """Score ``adapter`` (an object, or a ``MODULE:NAME`` spec; protocol: ``cross_check.score``) on
+    ``scenes`` (default: every scene with golden data in ``golden_dir``, by default the shipped
+    data); ``periods`` ``(1,)`` or ``(1, 10)``.
+
+    A spec runs in a worker process killed at the budget, an object in process (budget checked
+    after each call); ``in_process`` overrides (``False`` with an object: it must pickle).
+    ``progress(message)`` gets a line per scene and per slow start; ``checkpoint(card)`` gets the
+    card before the first scene and after each one (``complete`` false until the end).  A
+    protocol violation is a ``BadAdapter`` (a ``TypeError``), bad arguments a ``ValueError``."""
     if not set(periods) <= {1, 10} or 1 not in periods:
         raise ValueError(f"periods must be (1,) or (1, 10), got {periods!r}")
-    names = list(scene_table.SCENES) if scenes is None else list(scenes)
-    unknown = [n for n in names if n not in scene_table.SCENES]
+    have = golden.names_in(golden_dir)
+    names = have if scenes is None else list(scenes)
+    unknown = [n for n in names if n not in have]
     if unknown:
-        raise ValueError(f"unknown scene(s) {unknown}; known: {', '.join(scene_table.SCENES)}")
-    cases, per_scene, skipped = [], {}, {}
-    for name in names:
-        lacking = scene_table.scene(name).effects - set(adapter.effects)
-        if lacking:
-            skipped[name] = lacking
-            continue
-        res = score_scene(adapter, name, periods)
-        cases += res["cases"]
-        per_scene[name] = {"seconds_per_period": res["seconds_per_period"], "ten": res["ten"]}
-        if progress:
-            progress(f"score {adapter.name}: {name}")
-    return Scorecard(adapter.name, cases, per_scene, skipped, hasattr(adapter, "events"))
+        raise ValueError(f"unknown scene(s) {unknown}: no golden data for them in {golden.files(golden_dir)}; "
+                         f"it has: {', '.join(have)}")
+    budget = runner.Budget(case_timeout, first_call_timeout)
+    say = progress or (lambda m: None)
+    run = runner.runner(adapter, in_process, setup_budget=max(budget.first, isolate.SETUP_BUDGET))
+    try:
+        meta = run.meta
+        _check_effects(meta, run.who)
+        card = Scorecard(meta["name"], [], {}, {}, meta["events"], planned=names, complete=False,
+                         budget={"case_timeout": budget.per_start, "first_call_timeout": budget.first,
+                                 "isolated": run.isolated, "isolation": run.note, "restarts": 0})
+        if checkpoint:
+            checkpoint(card)
+        for name in names:
+            lacking = golden_scene(name, golden_dir).effects - set(meta["effects"])
+            if lacking:
+                card.skipped[name] = lacking
+                continue
+            t0 = time.perf_counter()
+            say(f"score {meta['name']}: {name} ...")
+            res = score_scene(None, name, periods, run=run, budget=budget, say=say, golden_dir=golden_dir)
+            card.cases += res["cases"]
+            card.scenes[name] = {k: res[k] for k in ("seconds_per_period", "ten", "mode")}
+            card.budget["restarts"] = run.restarts
+            failed = [c for c in res["cases"] if c.failure]
+            say(f"score {meta['name']}: {name}: {len(res['cases'])} starts, {len(failed)} failed "
+                f"({sum(c.failure_kind == 'timeout' for c in failed)} timeouts), {time.perf_counter() - t0:.1f} s")
+            if checkpoint:
+                checkpoint(card)
+        card.complete = True
+    finally:
+        run.close()
+    return card
 
 
+# --- the command line ---------------------------------------------------------------------
+class Stopped(BaseException):
+    """A signal (SIGINT, SIGTERM) asked the run to stop; ``main`` keeps the scorecard so far."""
 
-def load_adapter(spec: str):
-    """An adapter from ``MODULE:NAME`` (an object, or a class/function called without arguments)
-    or a shipped short name (``fast``, ``reference``, ``scipy``, ``heyoka``)."""
-    if spec in adapters.SHIPPED:
-        out = adapters.SHIPPED[spec]()
-        if out is None:
-            raise ValueError(f"adapter {spec!r} is not available here (pip install {spec})")
-        return out
-    module, sep, name = spec.partition(":")
-    if not sep or not module or not name:
-        raise ValueError(f"adapter must be MODULE:NAME or one of {', '.join(adapters.SHIPPED)}, got {spec!r}")
-    obj = getattr(importlib.import_module(module), name)
-    return obj() if callable(obj) and not hasattr(obj, "step") else obj
+    def __init__(self, signame: str):
+        super().__init__(signame)
+        self.signame = signame
 
 
-def main(argv=None) -> int:
-    """``python -m cross_check score ADAPTER [--scenes ...] [--periods 1 [10]] [--out DIR]``."""
+@contextlib.contextmanager
+def _stop_on_signals():
+    """SIGINT and SIGTERM raise in the main thread while the run goes on (restored after)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def raise_stopped(signum, frame):
+        raise Stopped(signal.Signals(signum).name)
+
+    old = {s: signal.signal(s, raise_stopped) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, handler in old.items():
+            signal.signal(s, handler)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``score`` command's options (one place: add new ones here)."""
     parser = argparse.ArgumentParser(
         prog="python -m cross_check score",
-        description="Score an integrator against the golden data (protocol: cross_check.score).  "
-                    "Writes scorecard.md and scorecard.json; exit status 1 if a kind is flagged.")
+        description="Score an integrator against the golden data (protocol: cross_check.score).  The adapter "
+                    "runs in a worker process, killed and restarted when a call on a start runs over "
+                    "--case-timeout: that start fails with kind timeout and the run goes on.  Writes "
+                    "scorecard.md and scorecard.json after every scene (marked incomplete until the last).  "
+                    "Exit status: 0 every kind passes, 1 a kind is flagged, 2 bad arguments or a bad adapter, "
+                    "130/143 interrupted by SIGINT/SIGTERM (the scorecard so far is kept).")
     parser.add_argument("adapter", help="MODULE:NAME of an adapter, or fast | reference | scipy | heyoka")
     parser.add_argument("--scenes", nargs="+", metavar="NAME", choices=list(scene_table.SCENES),
-                        help="only these scenes (default: all with golden data)")
+                        help="only these built-in scenes (default: all with golden data)")
+    parser.add_argument("--golden-dir", metavar="DIR", default=None,
+                        help="golden data written by `golden` or `verify` (DIR/golden) instead of the shipped data")
+    scenefile.add_arguments(parser, "score on")
     parser.add_argument("--periods", nargs="+", type=int, default=[1, 10], choices=[1, 10],
                         help="horizons: 1, or 1 10 (default)")
     parser.add_argument("--out", default="scorecard", help="output directory (default: scorecard/)")
-    args = parser.parse_args(argv)
-    try:
-        adapter = load_adapter(args.adapter)
-        t0 = time.perf_counter()
-        card = score(adapter, scenes=args.scenes, periods=tuple(args.periods),
-                     progress=lambda m: print(f"[{time.perf_counter() - t0:6.1f}s] {m}", file=sys.stderr, flush=True))
-    except (ValueError, TypeError, ImportError, AttributeError) as exc:
-        print(f"score: {exc}", file=sys.stderr)
-        return 2
-    out = pathlib.Path(args.out)
+    parser.add_argument("--case-timeout", type=runner.positive_seconds, default=CASE_TIMEOUT, metavar="SECONDS",
+                        help=f"budget of each call on a start (default {CASE_TIMEOUT:g}); a start over it is a "
+                             "failure of kind timeout and the run goes on")
+    parser.add_argument("--first-call-timeout", type=runner.positive_seconds, default=FIRST_CALL_TIMEOUT,
+                        metavar="SECONDS", help="budget of the warm-up call of step and of events on each set of "
+                        "effects, on a start that neither sticks nor chatters, where a JIT may compile "
+                        f"(default {FIRST_CALL_TIMEOUT:g})")
+    parser.add_argument("--in-process", action="store_true",
+                        help="call the adapter in this process, not in a worker process (for adapters that "
+                             "cannot be loaded there); the budget is then checked after each call, so a "
+                             "start that never returns hangs the run")
+    parser.add_argument("--debug", action="store_true", help="show the traceback behind a bad adapter")
+    return parser
+
+
+def _write(card: Scorecard, out: pathlib.Path):
+    """Both files, each replaced whole (an interrupted write never leaves half a file)."""
     out.mkdir(parents=True, exist_ok=True)
-    (out / "scorecard.md").write_text(card.to_markdown())
-    (out / "scorecard.json").write_text(card.to_json())
+    for name, text in (("scorecard.md", card.to_markdown()), ("scorecard.json", card.to_json())):
+        tmp = out / f".{name}.part"
+        tmp.write_text(text)
+        os.replace(tmp, out / name)
+
+
+def main(argv=None) -> int:
+    """``python -m cross_check score ADAPTER [--scenes ...] [--scenes-file FILE] [--scene "..."]
+    [--golden-dir DIR] [--periods 1 [10]] [--out DIR] [--case-timeout S] [--first-call-timeout S] [--in-process] [--debug]``."""
+    args = build_parser().parse_args(argv)
+    out, last = pathlib.Path(args.out), []
+    t0 = time.perf_counter()
+
+    def say(message):
+        try:
+            print(f"[{time.perf_counter() - t0:6.1f}s] {message}", file=sys.stderr, flush=True)
+        except OSError:               # stderr closed (a pipe into head): the run goes on, unheard
+            pass
+
+    def checkpoint(card):
+        last[:] = [card]
+        _write(card, out)
+
+    def stop(reason, status):
+        if last:
+            last[0].stopped = reason
+            _write(last[0], out)
+            print(f"score: {reason}; the scorecard so far (marked incomplete): {out / 'scorecard.md'}", file=sys.stderr)
+        return status
+
+    try:
+        names = (args.scenes or []) + scenefile.from_args(args)
+        with _stop_on_signals():
+            card = score(args.adapter, scenes=names or None, periods=tuple(args.periods), progress=say,
+                         golden_dir=args.golden_dir,
+                         case_timeout=args.case_timeout, first_call_timeout=args.first_call_timeout,
+                         in_process=args.in_process or None, checkpoint=checkpoint)
+    except (KeyboardInterrupt, Stopped) as exc:
+        name = getattr(exc, "signame", "SIGINT")
+        return stop(f"interrupted by {name}", 128 + signal.Signals[name].value)
+    except (ValueError, BadAdapter) as exc:
+        print(f"score: {exc}", file=sys.stderr)
+        if args.debug:
+            traceback.print_exc()
+            if getattr(exc, "detail", None):
+                print(f"behind it:\n{exc.detail}", file=sys.stderr)
+        return stop(f"stopped: {exc}", 2)
+    _write(card, out)
     print(out / "scorecard.md")
     return 1 if card.flagged() else 0
 
 
-__all__ = ["Scorecard", "CaseScore", "score", "score_scene", "load_adapter", "main"]
+__all__ = ["CASE_TIMEOUT", "CaseScore", "FIRST_CALL_TIMEOUT", "Scorecard", "build_parser", "load_adapter",
+           "main", "score", "score_scene"]

@@ -1,6 +1,7 @@
 """The golden cases as plain objects for scoring: a start, its exact answer, its kind.
 
-Each case of the shipped golden data (``cross_check.golden``) gives one ``GoldenCase`` for the
+Each case of the golden data (``cross_check.golden``: the shipped data, or any directory ``golden``
+or ``verify`` wrote, ``directory=``) gives one ``GoldenCase`` for the
 input a float64 integrator sees: the ``float64`` rounding of a decimal hard case, or the state
 itself when it is a float64 number.  Its ``kind`` says which regime the case tests:
 
@@ -16,12 +17,13 @@ physics is ill-posed there in float64, and the scorecard lists it apart.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
 import mpmath
 
-from cross_check import golden, scenes
+from cross_check import golden
 
 #: the kinds in the scorecard's order
 KINDS = ("smooth flight", "impact", "grazing", "crossing pair", "root at t = kT", "turning point at a wall",
@@ -30,6 +32,41 @@ _BUILT = {"grazing": "grazing", "crossing_pair": "crossing pair", "impact_at_T":
           "turn_at_wall": "turning point at a wall", "stick_slip_boundary": "stick-slip boundary",
           "sticking": "sticking", "at_rest": "sticking", "stopping": "sticking", "chatter": "chatter"}
 _EFFECT_KIND = (("position_forcing", "position forcing"), ("damping", "damping"), ("restitution", "restitution"))
+
+#: what usually makes an integrator run out of time on a case of each kind (the scorecard's and
+#: the pytest plugin's timeout message)
+CAUSES = {
+    "smooth flight": "no event to blame: a step size collapsing where f sgn(v) switches at a turning "
+                     "point, or an integrator that is slow here (raise the budget if it is just slow)",
+    "impact": "an event loop that restarts at the wall it has just left and finds the same impact "
+              "again at zero time (no progress in t)",
+    "grazing": "an impact with v -> 0: the wall event's root is tangent, so a root finder keeps "
+               "halving its bracket or a restart finds the same graze again",
+    "crossing pair": "two wall crossings closer than a step: a root finder that cannot separate the "
+                     "pair, or a loop that re-finds one root of it",
+    "root at t = kT": "an event exactly at the strobe time: a loop that re-triggers the event at the "
+                      "end of the interval with no progress in t",
+    "turning point at a wall": "v = 0 at the wall: an impact and a turn at the same instant, retried "
+                               "with zero velocity, zero progress",
+    "stick-slip boundary": "a turning point where |F cos wt| = f: a smooth solver sliding on sign(v) "
+                           "along the boundary of Filippov sticking",
+    "sticking": "a smooth solver sliding on sign(v): Filippov sticking (v stays 0 while |F cos wt| <= f); "
+                "f sgn(v) in the right-hand side makes v chatter about 0 and the step size collapse",
+    "chatter": "infinitely many impacts in finite time (Zeno): an event loop that restarts after "
+               "every bounce never reaches the accumulation point, then sticks to the wall",
+    "restitution": "bounces with e < 1 against a pushing force accumulate (Zeno chatter): an event loop "
+                   "restarting per bounce never reaches the accumulation point",
+    "damping": "with c x' the flights have no closed form: a numerical flight whose step collapses at "
+               "a sign switch of v, or a stick on sign(v) as without damping",
+    "position forcing": "F cos(k x) couples position and force: a numerical flight whose step collapses "
+                        "at a sign switch of v, or sticking on sign(v)",
+}
+
+
+def timeout_message(case_id: str, kind: str, budget: float, how: str = "the worker process was stopped") -> str:
+    """The one message for a start that gave no result within its budget (scorecard and plugin)."""
+    return (f"{case_id} [{kind}]: timeout: no result within {budget:g} s ({how}); usual cause for "
+            f"{kind}: {CAUSES.get(kind, 'an integrator looping or simply slow here')}")
 
 
 @dataclass(frozen=True)
@@ -95,11 +132,17 @@ def _kind(case: dict, effects, events) -> str:
     return "impact" if "impact" in kinds else "smooth flight"
 
 
-def scene_cases(name: str) -> list[GoldenCase]:
-    """The golden cases of one scene, for the float64 input of each."""
-    data = golden.load(name)
+def golden_scene(name: str, directory=None):
+    """The scene of a golden file, from its exact record (the default directory: the shipped data)."""
+    return golden.scene_of(golden.load(name, directory), f"golden file of {name!r}")
+
+
+def scene_cases(name: str, directory=None) -> list[GoldenCase]:
+    """The golden cases of one scene, for the float64 input of each (from ``directory``, default the
+    shipped golden data; the parameters are the file's own record)."""
+    data = golden.load(name, directory)
     effects = frozenset(data["scene"]["effects"])
-    params = scenes.scene(name).floats()
+    params = golden.scene_of(data, f"golden file of {name!r}").floats()
     out = []
     for c in data["cases"]:
         inp = c["inputs"].get("float64", c["inputs"]["exact"])
@@ -111,6 +154,33 @@ def scene_cases(name: str) -> list[GoldenCase]:
     return out
 
 
-def all_cases(names=None) -> list[GoldenCase]:
-    """Every golden case of the scenes ``names`` (default: all scenes with golden data)."""
-    return [c for name in (names or scenes.SCENES) for c in scene_cases(name)]
+_HARD = frozenset({"stick", "slip", "contact", "release", "chatter"})
+
+
+def _difficulty(case) -> tuple:
+    return any(e[0] in _HARD for e in case.events), len(case.events)
+
+
+def easiest(cases) -> int:
+    """The index of the case to warm an integrator up on: one whose exact itinerary neither sticks
+    nor chatters (where general integrators loop), with the fewest events."""
+    return min(range(len(cases)), key=lambda i: (*_difficulty(cases[i]), i))
+
+
+@functools.lru_cache(maxsize=None)
+def warmup_case(effects: frozenset, directory=None) -> GoldenCase | None:
+    """The easiest case (``easiest``) of every scene whose effects are ``effects``, in ``directory``
+    and in the shipped data: what the first call on a new set of effects runs on (a JIT compiles its
+    code path there), so that even a scene where every start sticks gets no start on the long
+    first-call budget.  ``None`` if no scene there has these effects (the caller then warms up on
+    the scene's own easiest case)."""
+    dirs = (None,) if directory is None else (directory, None)
+    picks = [cs[easiest(cs)] for d in dirs for name in golden.names_in(d)
+             for cs in [scene_cases(name, d)] if cs and cs[0].effects == effects]
+    return min(picks, key=_difficulty) if picks else None
+
+
+def all_cases(names=None, directory=None) -> list[GoldenCase]:
+    """Every golden case of the scenes ``names`` (default: all scenes with golden data in
+    ``directory``, by default the shipped data)."""
+    return [c for name in (names or golden.names_in(directory)) for c in scene_cases(name, directory)]

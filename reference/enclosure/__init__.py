@@ -12,11 +12,15 @@ What is proved, and what is not
   kinds of the events in order), each event time in its ball, no other event, and ``Phi^k``,
   ``(Phi^k)'`` in their balls.  The model is the one of ``reference.integrator``: Filippov
   sticking, the reset ``v+ = -e v-``, chatter as the accumulation of infinitely many impacts
-  followed by wall contact.
-* Not proved: anything about position-dependent forcing (no closed-form flight; it would
-  need a validated ODE solver), a start on a grazing or a tangency (no box fixes the
-  itinerary there), and the *nonlinear* stability of a neutral centre (elliptic multipliers
-  are proved; stability needs KAM-type arguments).  A chatter accumulation time is enclosed
+  followed by wall contact.  Under position forcing (``F cos(k x) cos(w t)``, damping too) the
+  flights have no closed form: each is a validated Taylor flight (``lohner``: a Picard box
+  verified to contract, the Lagrange remainder over it, a Lohner QR frame across steps, the
+  flow derivative from the variational equations), and rests hold where
+  ``|F cos(k x) cos(w t)| <= f`` is proved at the rest's ``x``.  There ``Phi'`` is enclosed
+  to about half the working precision (~1e-48 at 320 bits), ``Phi`` to all of it.
+* Not proved: a start on a grazing or a tangency (no box fixes the itinerary there), and the
+  *nonlinear* stability of a neutral centre (elliptic multipliers are proved; stability
+  needs KAM-type arguments).  A chatter accumulation time is enclosed
   to ~1e-7..1e-12 T only (the walk follows bounces in absolute coordinates while it can, then
   bounds the tail on both sides); the map does not depend on it.
 
@@ -32,10 +36,11 @@ interval by a chain of boxes (rigorous continuation).  A point box is its scene:
 API is unchanged.
 
 Modules: ``balls`` (precision, conversions, the scene as balls), ``motion`` (flights and
-rests on balls, event functions), ``certify`` (exclusion and Krawczyk roots), ``walk`` (the
-itinerary, event by event, chatter tails), ``maps`` (``enclose_map``), ``orbits``
-(``prove_periodic``), ``params``, ``sensitivity``, ``centred``, ``shooting``, ``boxes``,
-``continuation`` (parameter boxes).
+rests on balls, event functions), ``series`` (the position-forced flight's Taylor
+coefficients on balls), ``lohner`` (validated flights), ``certify`` (exclusion and Krawczyk
+roots), ``walk`` (the itinerary, event by event, chatter tails), ``maps`` (``enclose_map``),
+``orbits`` (``prove_periodic``); over parameter boxes ``params``, ``sensitivity``, ``centred``,
+``shooting``, ``boxes``, ``continuation``, ``branches``.
 """
 from reference.enclosure.certify import Unproved
 from reference.enclosure.maps import MapEnclosure, enclose_map

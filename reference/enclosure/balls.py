@@ -126,7 +126,8 @@ def rel_radius(value: arb) -> float:
 class BallModel:
     """The scene's parameters as balls at the current arb precision, plus derived constants.
 
-    ``F, f, w, l, r, e, c`` (the paper's symbols), ``T = 2 pi / w``; ``friction``,
+    ``F, f, w, l, r, e, c, k`` (the paper's symbols; ``k`` None without position forcing),
+    ``T = 2 pi / w``; ``friction``,
     ``restitution``, ``damping`` as in ``reference.model.Model``.
     """
 
@@ -135,6 +136,7 @@ class BallModel:
         self.F, self.f, self.w = (parameter(scene, k) for k in ("F", "f", "omega"))
         self.l, self.r = parameter(scene, "l"), parameter(scene, "r")
         self.e, self.c = parameter(scene, "restitution"), parameter(scene, "damping")
+        self.k = parameter(scene, "wavenumber")
         self.T = 2 * arb.pi() / self.w
         self.friction = scene.has("friction")
         #: a parameter box with f in [0, hi]: frictionless and friction scenes together (the
@@ -158,6 +160,11 @@ class BallModel:
         """``r`` for side +1, ``l`` for side -1."""
         return self.r if side > 0 else self.l
 
+    def amplitude(self, x) -> arb:
+        """``F cos(k x)``: the force's amplitude at the position ``x`` (``F`` without position
+        forcing, where ``x`` is not used)."""
+        return self.F * (self.k * x).cos() if self.position_forcing else self.F
+
     def force(self, x, t: arb) -> arb:
-        """``A(t) = F cos(w t)`` (no position forcing here: ``x`` is not used)."""
-        return self.F * (self.w * t).cos()
+        """``A(x, t) = F cos(k x) cos(w t)`` (``F cos(w t)`` without position forcing)."""
+        return self.amplitude(x) * (self.w * t).cos()

@@ -155,7 +155,7 @@ def dual_log(model, log, names):
     """The ball log with every event's ``t, x, v, v_before`` as :class:`Dual` over
     ``u = (x0, v0, p...)`` (``names`` the parameters), or None (an event other than impacts and
     turns, damping, or a start at rest).  ``(dual_model, log)``."""
-    if model.damping or not (log.v0 > 0 or log.v0 < 0 or not model.friction):
+    if model.damping or model.position_forcing or not (log.v0 > 0 or log.v0 < 0 or not model.friction):
         return None
     dm = DualModel(model, list(names))
     n = dm.n

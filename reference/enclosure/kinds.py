@@ -47,7 +47,9 @@ def classify(scene, tr, det, kinds):
 
     ``det P' = 1`` exactly when the orbit has only flights and elastic impacts (no turn,
     stop or contact) and no damping: every such Table 1 factor has determinant 1 (flight
-    ``[[1, h], [0, 1]]``, reflection ``[[-1, 0], [*, -1]]``) -- a theorem, used as such.
+    ``[[1, h], [0, 1]]``, reflection ``[[-1, 0], [*, -1]]``; under position forcing the
+    flight factor solves ``V' = [[0, 1], [A_x, 0]] V``, trace 0, so ``det V = 1`` by
+    Liouville) -- a theorem, used as such.
     """
     conservative = (all(k == "impact" for k in kinds) and not scene.has("restitution")
                     and not scene.has("damping"))

@@ -14,7 +14,10 @@ certification code (``reference.enclosure.certify``) serves every motion:
       a = F cos(w t) - s f - c v,  a' = -F w sin(w t) - c a,  a'' = -F w^2 cos(w t) - c a';
 
 * a **rest** (sticking at ``x``, or wall contact), ``u = t`` (absolute time: the end of a
-  rest does not depend on when it began), stack ``[A, A', A'', A''']``.
+  rest does not depend on when it began), stack ``[A, A', A'', A''']`` (under position
+  forcing ``A = F cos(k x) cos(w t)`` at the rest's ``x``);
+* a flight under position forcing has no closed form: the validated flight of
+  ``reference.enclosure.lohner`` gives the same stack from its Taylor steps.
 
 Event functions ``g = const + coef * stack[offset]`` (so ``g^(k) = coef * stack[offset + k]``
 for ``k >= 1``), each positive while the motion lasts:
@@ -130,8 +133,9 @@ class Rest:
         self.m, self.x = model, x
 
     def stack(self, t):
-        """``[A, A', A'', A''']`` at absolute time ``t`` (a ball)."""
+        """``[A, A', A'', A''']`` at absolute time ``t`` (a ball); under position forcing the
+        amplitude is ``F cos(k x)`` at the rest's ``x`` (a ball: every start of the box)."""
         m = self.m
         sn, cs = (m.w * t).sin_cos()
-        F, w = m.F, m.w
+        F, w = m.amplitude(self.x), m.w
         return [F * cs, -F * w * sn, -F * w * w * cs, F * w * w * w * sn]

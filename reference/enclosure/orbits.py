@@ -70,8 +70,8 @@ def _newton(scene, z, periods, phase, prec):
             return z, enc
         step = _matvec(_inverse(M), [enc.phi[0].mid() - z[0], enc.phi[1].mid() - z[1]])
         new = [(z[0] - step[0]).mid(), (z[1] - step[1]).mid()]
-        if new == z:
-            return z, enc
+        if new == z or all(abs(step[i]) <= 4 * enc.phi[i].rad() for i in range(2)):
+            return z, enc       # converged: the step is within the enclosure's own noise
         z = new
     return z, enc
 

@@ -73,7 +73,7 @@ def parameter_jacobian(model, log, names):
     """``(J, J_p)`` of the log's map (``J_p`` a list of columns ``(dx/dp, dv/dp)``, one per name
     in ``names``), or ``None`` if the log has an event other than impacts and turns, the
     model has damping, or a name is not in :data:`PARAMETERS`."""
-    if model.damping or any(n not in PARAMETERS for n in names):
+    if model.damping or model.position_forcing or any(n not in PARAMETERS for n in names):
         return None
     one, zero = model.one, model.zero
     J, Jp = [[one, zero], [zero, one]], [(zero, zero) for _ in names]

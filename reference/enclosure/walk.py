@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from flint import arb
 
-from reference.enclosure import certify, motion
+from reference.enclosure import certify, lohner, motion
 from reference.enclosure.balls import from_mpf, span
 from reference.enclosure.certify import Unproved
 from reference.integrator import Event, EventLog
@@ -54,14 +54,20 @@ def chatter_tail(m, t, side, u):
     ``K = 1/D + 1/sqrt(D R_min)``, ``K_lo = 1/D_max + 1/sqrt(D_max R_max)``.  The bounds are
     valid if the upper one fits in the window (the push bounds then held on every bounce) and
     the heights stay below the gap (no other wall).  The width is second order in ``u``.
+    Under position forcing the push is bounded over the strip ``H`` wide at the wall as well,
+    with ``H`` at least the highest bounce ``u^2 / 2 D`` (later bounces are slower).
     """
-    f, e = m.f, m.e
-    W = m.T * arb(2) ** -20
+    f, e, wall = m.f, m.e, m.wall(side)
+    W, strip, H = m.T * arb(2) ** -20, wall, arb(0)
     for _ in range(CHATTER_TRIES):
-        push = side * m.force(None, span(t, t + W))
+        push = side * m.force(strip, span(t, t + W))
         D, R_max = push.lower() + f, push.upper() - f
         if not (D > 0 and R_max > 0):
             break
+        if m.position_forcing and not u * u / (2 * D) <= H:
+            H = (u * u / D).upper()          # twice the highest bounce: the strip, tried next
+            strip = wall - side * arb(H / 2, H / 2)
+            continue
         speed = u * max(arb(1), (R_max / D).sqrt()).upper()     # |v| on a bounce
         drag = m.c * speed if m.damping else arb(0)
         R_min, D_max = push.lower() - f - drag, push.upper() + f + drag
@@ -89,6 +95,7 @@ class Walk:
         self.mode, self.s, self.side, self.orders = "flight", 0, 0, {}
         self.pieces = 0
         self.fallback = None          # the last impact of a chatter run with a bounded tail
+        self.flights = {}             # validated flights by id of their start time (Table 1)
         self.ahead = None             # (side, index) of the chatter event ending the current run
 
     # -- point events -------------------------------------------------------------------
@@ -151,7 +158,7 @@ class Walk:
             return
         if not m.friction:
             return self.to_flight(0, {})
-        A = m.force(None, self.t)
+        A = m.force(self.x, self.t)
         sign = 1 if A > m.f else (-1 if A < -m.f else 0)
         if not sign:
             raise Unproved("a start at rest where the force is at the friction level")
@@ -170,9 +177,19 @@ class Walk:
         return [motion.EventFunction(fn.name, fn.offset, fn.coef, fn.const, orders.get(fn.name, 0))
                 for fn in fns]
 
+    def new_flight(self):
+        """The flight from the current state: the closed form, or under position forcing a
+        validated Taylor flight (kept for its flow derivative, ``lohner.FlightFactors``)."""
+        m = self.m
+        if not m.position_forcing:
+            return motion.Flight(m, self.t, self.x, self.v, self.s)
+        flight = lohner.ValidatedFlight(m, self.t, self.x, self.v, self.s)
+        self.flights[id(self.t)] = flight
+        return flight
+
     def fly(self):
         m = self.m
-        flight = motion.Flight(m, self.t, self.x, self.v, self.s)
+        flight = self.new_flight()
         fns = self.functions()
         h_end = self.t_end - self.t
         ev = self.peek()
@@ -184,13 +201,15 @@ class Walk:
             self.t, self.x, self.v = self.t_end, stack[0], stack[1]
             return True
         side = self._wall_side(ev.x)
-        if ev.kind == "impact" and side:
-            fired = next(fn for fn in fns if fn.name == motion.wall_name(side))
+        ahead = [fn for fn in fns if side and fn.name == motion.wall_name(side)]
+        if ev.kind == "impact" and ahead:
+            fired = ahead[0]
         elif ev.kind in ("turn", "stick") and not side and m.friction:
             fired = fns[1]
         else:
             raise Unproved(f"a {ev.kind} at t = {mpstr(ev.t)} at x = {mpstr(ev.x)} reached from "
-                           f"flight (a grazing touch or a turning point at a wall)")
+                           f"flight (a grazing touch, a turning point at a wall, or an impact at "
+                           f"the wall the flight moves away from)")
         guess = (from_mpf(ev.t) - self.t.mid()).mid()
         wide, tight = certify.root(flight, fired, guess, arb(0), what)
         if not tight < h_end:
@@ -294,7 +313,7 @@ class Walk:
     def rest(self):
         m = self.m
         rest = motion.Rest(m, self.x)
-        stuck_for_good = m.F <= m.f
+        stuck_for_good = m.F <= m.f or abs(m.amplitude(self.x)) <= m.f
         if self.mode == "stick":
             fns = [] if stuck_for_good else [motion.slip(m, 1), motion.slip(m, -1)]
             kind = "slip"
@@ -310,12 +329,16 @@ class Walk:
             self.t, self.v = self.t_end, arb(0)
             return True
         self.take(kind)
+        if not fns:
+            raise Unproved(f"{what}: |F cos(k x)| <= f at the rest (F <= f without position "
+                           f"forcing), so the rest never ends; the point integrator has a "
+                           f"{kind} at t = {mpstr(ev.t)}")
         guess = from_mpf(ev.t)
         if not guess > self.t.upper():
             raise Unproved(f"{what}: it ends as it begins (the force at the friction level: "
                            f"a stick-slip boundary)")
         if self.mode == "stick":
-            sigma = 1 if m.force(None, guess) > 0 else -1
+            sigma = 1 if m.force(self.x, guess) > 0 else -1
             fired = fns[0] if sigma > 0 else fns[1]
         else:
             sigma, fired = -self.side, fns[0]

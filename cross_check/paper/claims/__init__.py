@@ -3,7 +3,7 @@
 ``CLAIMS`` is the registry (``base.Claim`` objects, in the table's order), one module per group:
 
 * ``closed_forms``  -- the symmetric solutions and their conditions, no-impact solutions, the
-  lift, the equilibria of the position forcing;
+  lift, the equilibria of the position forcing (and fig:xpotno's non-sticking centre, proved);
 * ``bifurcations``  -- the fold at f_crit, the 3:1 resonance, the saddle's eigenvalues;
 * ``regions``       -- Omega_dissip's invariance, area preservation, Table 1's matrices;
 * ``islands``       -- the focus and period-5 orbit, island A, the central island, the no-impact
@@ -39,7 +39,7 @@ CLAIMS: dict[str, Claim] = {cid: REGISTRY[cid] for cid in ORDER}
 #: the claims whose verdict rests on periodic orbits: their rows carry ``proved``, one Krawczyk
 #: proof per orbit (``base.prove``; ``python -m cross_check prove --orbits`` runs just these)
 ORBIT_CLAIMS = ("symmetric-solutions", "eigenvalues-fig7", "focus-and-period5", "island-A",
-                "fig1b-centre", "subharmonic-islands", "fig3-attractor")
+                "fig1b-centre", "subharmonic-islands", "fig3-attractor", "xpot-equilibria")
 
 __all__ = ["CLAIMS", "ORBIT_CLAIMS", "Claim", "Outcome", "run_claims", "main"]
 

@@ -1,0 +1,187 @@
+"""The units of work of ``verify``, one scene each, run as Dask tasks: each composes a room.
+
+Every task takes the scene as its record (``golden.scene_record``: exact strings, picklable and
+readable on any worker) and registers it there (``cross_check.scenes.register``), so the rooms
+below find it by name as they find a built-in scene.  Results are plain data (dicts, lists,
+strings, PNG bytes): the client writes every file, so a remote cluster needs no shared disk.
+
+* ``states``    -- the sample states and the hard cases the scene admits (``scenes``), with the
+  reasons for the kinds it does not admit (``agreement.hardcases``);
+* ``golden``    -- golden entries for a chunk of states (``golden.case_entry``): 40 digits after
+  the dps 90 / 110 self-check, a proof per input; a state whose self-check fails is *left out*
+  with the reason (never written with a doubtful digit);
+* ``agreement`` -- fast against the reference, itinerary first, then digits, on the samples and
+  on the hard cases (``report.sections``);
+* ``orbits``    -- periodic points of one period by Newton from a grid of seeds
+  (``dynamics.periodic``), each classified, and proved by Krawczyk (``paper.claims.base.prove``:
+  ``reference.enclosure.prove_periodic``; a segment of no-impact fixed points by ``prove_segment``);
+* ``portrait``  -- the PNG (``verify.portrait``);
+* ``scorecard`` -- an adapter scored on the scene's own golden data (``score.card``).
+"""
+from __future__ import annotations
+
+import math
+import tempfile
+from dataclasses import dataclass
+
+import numpy as np
+
+from cross_check import golden, scenefile, scenes
+from cross_check.agreement import compare
+from cross_check.dynamics import periodic
+from cross_check.paper.claims.base import prove
+from cross_check.report import sections
+from cross_check.score import card
+
+
+@dataclass(frozen=True)
+class Depth:
+    """How much a verify run does per scene (``FULL``; ``QUICK`` drops what ``--quick`` says)."""
+
+    n_sample: int          # seeded sample states (golden data and agreement)
+    n_ten: int             # sample states also compared after 10 periods (fast vs reference)
+    periods: tuple         # orbit periods searched
+    seeds: tuple           # Newton seed grid (nx, nv)
+    max_proofs: int        # orbits proved per period (the rest are listed, not attempted)
+    score_periods: tuple   # scorecard horizons
+    pixels: int            # portrait: Omega_pres / Omega_dissip pixels per side
+    n_iter: int            # portrait: iterates per orbit
+    hard_agreement: bool   # fast vs reference on the hard cases too (else fast's scorecard alone grades them)
+    name: str
+
+
+FULL = Depth(8, 2, (1, 2, 3), (16, 16), 16, (1, 10), 120, 300, True, "full")
+QUICK = Depth(4, 0, (1,), (10, 10), 8, (1,), 48, 60, False, "quick")
+#: sample states per golden task (a hard case has a task of its own: two inputs, and chatter is slow)
+SAMPLES_PER_TASK = 4
+
+
+def golden_chunks(cases: list) -> list:
+    """``[(index, case)]`` chunks for the golden tasks, the costliest first: chatter, the other
+    hard cases one each, then the samples ``SAMPLES_PER_TASK`` at a time."""
+    hard = sorted((ic for ic in enumerate(cases) if ic[1].exact == "decimal"), key=lambda ic: ic[1].kind != "chatter")
+    soft = [ic for ic in enumerate(cases) if ic[1].exact != "decimal"]
+    return [[ic] for ic in hard] + [soft[i:i + SAMPLES_PER_TASK] for i in range(0, len(soft), SAMPLES_PER_TASK)]
+
+
+def scene_of(rec: dict) -> str:
+    """Register the scene of a record on this worker (idempotent); its name."""
+    name = rec["name"]
+    if name in scenes.SCENES:
+        return name
+    return scenes.register(scenefile.from_record(rec, f"scene {name!r}"))
+
+
+def velocity_range(sc) -> float:
+    """``v`` half-range of the seeds and the portrait: the forced speed ``2F/w`` or the speed of
+    crossing the gap in half a period ``R w / pi``, whichever is larger."""
+    F, w = sc.float("F"), sc.float("omega")
+    return max(2 * F / w, (sc.float("r") - sc.float("l")) * w / math.pi, 1e-3)
+
+
+# ------------------------------------------------------------------------------ the tasks
+def states(rec: dict, depth: Depth) -> dict:
+    """The states of interest and the hard-case notes."""
+    name = scene_of(rec)
+    return {"cases": scenes.states_of_interest(name, depth.n_sample), "notes": scenes.hard_case_notes(name)}
+
+
+def golden_entries(rec: dict, cases: list) -> list:
+    """``[(index, entry or None, reason)]`` for a chunk of ``(index, case)``."""
+    sc = scenes.scene(scene_of(rec))
+    out = []
+    for i, case in cases:
+        try:
+            out.append((i, golden.case_entry(sc, case), None))
+        except golden.GoldenError as exc:
+            out.append((i, None, str(exc)))
+    return out
+
+
+def golden_document(rec: dict, parts: list, depth: Depth) -> dict:
+    """The scene's golden file from its chunks (states in order) and the states left out."""
+    sc = scenes.scene(scene_of(rec))
+    rows = sorted((row for part in parts for row in part), key=lambda r: r[0])
+    doc = golden.document(sc, [e for _, e, _ in rows if e is not None], depth.n_sample,
+                          generator="python -m cross_check verify")
+    return {"document": doc, "dropped": [why for _, e, why in rows if e is None]}
+
+
+def agreement(rec: dict, depth: Depth) -> dict:
+    """Fast vs reference: the samples (``sections.scene_agreement``) and the hard cases."""
+    name = scene_of(rec)
+    hard = depth.hard_agreement and scenes.hard_states(name)
+    return {"samples": sections.scene_agreement(name, depth.n_sample, depth.n_ten),
+            "hard": sections.hard_case_rows(name) if hard else []}
+
+
+def _segments(found, tol):
+    """Non-isolated points grouped by ``v`` (one no-impact segment of fixed points each)."""
+    groups = []
+    for p in found:
+        for g in groups:
+            if abs(g[0].v - p.v) <= tol:
+                g.append(p)
+                break
+        else:
+            groups.append([p])
+    return groups
+
+
+def _proof(label, sc, p, period, seg) -> dict:
+    """The Krawczyk proof record of one orbit (``paper.claims.base.prove``); a proof that cannot
+    be attempted (position forcing has no closed-form flight) is a failed one, with the reason."""
+    try:
+        return prove(label, sc, p.x, p.v, k=period, segment=seg)
+    except (ValueError, RuntimeError, ArithmeticError) as exc:
+        return {"orbit": label, "periods": period, "proved": False, "reason": f"{type(exc).__name__}: {exc}"}
+
+
+def orbits(rec: dict, period: int, depth: Depth) -> list:
+    """Period-``period`` orbits: found by Newton from a seed grid, deduplicated, classified,
+    the first ``depth.max_proofs`` proved.  Each a dict (``as_dict`` of the point, ``dissip``,
+    ``sticks``, the proof record or why none was attempted)."""
+    import fast
+
+    sc = scenes.scene(scene_of(rec))
+    vmax = velocity_range(sc)
+    found = periodic.find_periodic_points(sc, period=period, v_range=(-vmax, vmax), grid=depth.seeds)
+    flat = [p for p in found if p.kind == "non-isolated"]
+    rows = [("orbit", p, None) for p in found if p.kind != "non-isolated"]
+    rows += [("segment", g[0], (min(q.x for q in g), max(q.x for q in g))) for g in _segments(flat, 1e-7)]
+    out = []
+    for j, (what, p, seg) in enumerate(rows):
+        pts = p.points
+        kinds = {e.kind for evs in compare.fast_events(sc, pts[:, 0], pts[:, 1]) for e in evs}
+        row = {**p.as_dict(), "what": what, "segment": seg, "orbit": [list(z) for z in p.orbit],
+               "dissip": bool(np.asarray(fast.zero_velocity(sc, pts[:, 0], pts[:, 1])).any()),
+               "sticks": bool(kinds & {"stick", "contact"})}
+        label = f"period {period} {what} {j}"
+        if j < depth.max_proofs:
+            row["proof"] = _proof(label, sc, p, period, seg)
+        else:
+            row["proof"] = {"orbit": label, "proved": False,
+                            "reason": f"not attempted: more than {depth.max_proofs} orbits of period {period}"}
+        out.append(row)
+    return out
+
+
+def portrait(rec: dict, orbit_parts: list, depth: Depth) -> bytes:
+    """The scene's portrait as PNG bytes (``verify.portrait``), with the orbits of every period."""
+    from cross_check.verify import portrait as draw
+
+    sc = scenes.scene(scene_of(rec))
+    return draw.png(sc, [row for part in orbit_parts for row in part], depth, velocity_range(sc))
+
+
+def scorecard(rec: dict, golden_file: dict, adapter: str, depth: Depth) -> dict:
+    """``adapter`` (a shipped name: ``fast``, ``scipy``) on the scene's own golden data (the
+    ``golden_document`` result)."""
+    import pathlib
+
+    name = scene_of(rec)
+    with tempfile.TemporaryDirectory() as tmp:
+        (pathlib.Path(tmp) / (scenes.slug(name) + ".json")).write_text(golden.dumps(golden_file["document"]))
+        c = card.score(card.load_adapter(adapter), scenes=[name], periods=depth.score_periods, golden_dir=tmp)
+    return {"adapter": c.adapter, "flagged": c.flagged(), "kinds": c.kinds(), "markdown": c.to_markdown(),
+            "json": c.to_json()}

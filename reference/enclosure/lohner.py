@@ -1,0 +1,395 @@
+"""Validated flights under position forcing: Taylor steps with a rigorous remainder, carried
+across steps in a Lohner QR frame, with the flow derivative (the C^1-Lohner algorithm).
+
+A flight ``x'' = F cos(k x) cos(w t) - s f - c x'`` (``reference.enclosure.series``) has no
+closed form.  :class:`ValidatedFlight` encloses it, for every start of a box, by the
+interval Taylor method of Lohner (R. J. Lohner, *Enclosing the solutions of ordinary
+initial and boundary value problems*, 1987; N. S. Nedialkov, K. R. Jackson and G. F.
+Corliss, *Validated solutions of initial value problems for ordinary differential
+equations*, Appl. Math. Comput. 105, 1999, and their VNODE) with the derivative of the
+flow of Zgliczynski's C^1-Lohner algorithm (P. Zgliczynski, *C^1 Lohner algorithm*, Found.
+Comput. Math. 2, 2002; the CAPD library).  Taylor models (M. Berz and K. Makino, Reliable
+Computing 4, 1998) would carry the start's dependence to higher order; here it is linear
+(the boxes are ~1e-30 wide: the linear term is the whole story).
+
+One step from a set ``{m + A r : r in R}`` at the exact time ``t_j`` (``m`` exact, ``A`` an
+exact nearly orthogonal matrix, ``R`` balls) to ``t_j + h``:
+
+1. *a priori enclosure* (Picard, :func:`contracts`): a box ``B`` with
+   ``N = Y + [0, h] f([t_j, t_j + h], B)`` inside ``B`` (``Y`` the hull of the set), found by
+   iterating and widening and verified by a certain comparison: then every solution from
+   ``Y`` exists on ``[0, h]`` and stays in ``N`` (the Picard operator maps the continuous
+   paths in ``B`` into those in ``N``; Lipschitz ``f``: one solution);
+2. *Taylor series* of order ``p`` at the centre ``m`` (``series``), and the variational
+   coefficients ``V_n`` over ``Y``, so that for every start ``m + A r``
+
+       z(t_j + tau) in sum_n c_n(m) tau^n + (sum_n V_n(Y) tau^n) A r + rem tau^(p+1),
+
+   the middle term the mean value theorem on the polynomial, ``rem`` the Lagrange remainder:
+   the coefficient of order ``p + 1`` evaluated over ``B`` and the times of the step;
+3. *the flow derivative* of the step, ``V(tau)``, is the variational series of order
+   ``q = p/2`` over ``Y`` plus its Lagrange remainder ``G_{q+1}(B) W tau^(q+1)``: ``G_{q+1}``
+   the variational coefficient with identity start (``V^{(q+1)} = (q+1)! G_{q+1}(y) V``), ``W``
+   the box ``|V - I|_inf <= exp(L h) - 1`` (Gronwall on ``B``, ``L = max(1, |A_x| + c)``).  Half
+   the order carries ``Phi'`` to about half the working precision (~1e-48 at 320 bits: the
+   Krawczyk proofs and the golden 40 digits need less) at a quarter of the cost;
+4. *the step size*: from the decay of the centre's coefficients (times the ratio the last
+   step needed), rounded down to a short dyadic number (so the step times stay exact), and
+   shortened until the Picard box exists, the state's remainder is below ``2^-tol_bits``
+   (default ``2^-prec``) of the state's scale and the derivative's below the square root of
+   that; the order ``p`` is :func:`taylor_order`;
+5. *the Lohner frame* against the wrapping effect: ``M = (sum V_n(Y) h^n) A``, the new
+   ``A`` the QR frame of ``mid M`` (its dominant column, weighted by ``R``, first; exact
+   entries), ``R <- (A^-1 M) R + A^-1 (c(h) + rem - m)``, ``m`` the new midpoint.  An axis
+   box would rotate with the flow and wrap at every step; the frame turns with it.
+
+The derivative of the flow from the flight's start, ``D``, is the product of the steps'
+``V(h)`` (ball matrices).
+
+A start time that is a ball (an event time) is moved to the exact ``base = t0.lower()``:
+the start box becomes the set of states at ``base`` of the solutions through the box at
+``t0`` (``z0 - [0, t0 - base] f``, over its own Picard box), and the flow derivative gets
+the factor ``I +- (exp(L (t0 - base)) - 1)``.  A local time ``u`` of the walk is then
+``sigma = u + (t0 - base)``, a ball.
+
+``stack(u)`` is the derivative stack ``[x, v, a, a', a'']`` of ``reference.enclosure.motion``
+(``a``, ``a'``, ``a''`` from the equation of motion at the enclosed state), so that
+``reference.enclosure.certify`` excludes and locates events on a validated flight as on a
+closed-form one; ``derivative(u)`` the flight factor of Table 1 (``FlightFactors`` hands
+it to ``reference.jacobian.product_of_table1``).  Both enclose the flight for every ``u`` of
+the ball from the flight's start on (``u >= 0``: a ball ``[0, b]`` reaches below 0 by the
+rounding of its radius only, and the certificates never need earlier times).  Steps are
+taken lazily, at most ``max_steps`` of them.
+"""
+from __future__ import annotations
+
+import math
+from bisect import bisect_right
+
+from flint import arb, arb_poly, ctx
+
+from reference.enclosure.certify import Unproved
+from reference.enclosure.series import Field
+from reference.jacobian import mat_mul
+
+#: Bound on the steps of one flight (a step budget; exceeding it leaves the flight unproved):
+#: a period of eq. xpot takes ~15 steps, ~20 ms each at 320 bits, so 2000 is ~100 periods.
+MAX_STEPS = 2000
+#: Bound on the halvings of one step, and on the Picard iterations of one a priori box.
+HALVINGS = 30
+PICARD_TRIES = 12
+#: Significant bits of a step size (a short dyadic number keeps the step times exact).
+STEP_BITS = 12
+#: The longest step, in units of the flight's natural time scale (``_step_cap``).
+CAP = 2
+#: The first step's fraction of the centre's guess (the a priori box widens the remainder's
+#: coefficient; measured ~0.85 of the guess passes on eq. xpot); later steps learn it.
+SHRINK = 0.8
+
+
+def taylor_order(prec: int) -> int:
+    """The order ``p`` of the Taylor steps at ``prec`` bits, ``p = prec ln 2 / 2``.
+
+    A step costs ``~p^2`` ball operations and, for a series of radius ``rho``, reaches
+    ``h = rho q`` with ``q^p = 2^-prec``: the cost per unit time ``p^2 / h`` is least at
+    ``ln(1/q) = 2``, i.e. ``p = prec ln 2 / 2`` (111 at 320 bits, ``h ~ rho / 7``)."""
+    return max(12, round(prec * math.log(2) / 2))
+
+
+def _mat_vec(M, z):
+    return [M[0][0] * z[0] + M[0][1] * z[1], M[1][0] * z[0] + M[1][1] * z[1]]
+
+
+def _near_identity(e):
+    """``I + [-e, e]`` entrywise (``e`` an exact nonnegative ball)."""
+    return [[1 + arb(0, e), arb(0, e)], [arb(0, e), 1 + arb(0, e)]]
+
+
+def _interval(h):
+    """The ball ``[0, h]`` (``h >= 0`` exact)."""
+    return arb(h / 2, h / 2) if not h.is_zero() else arb(0)
+
+
+def contracts(field, t_span, Y, hball, B):
+    """The Picard test: ``N = Y + hball f(t_span, B)`` if it lies in the interior of ``B``
+    (then every solution from ``Y`` at a time of ``t_span`` exists over the times ``hball``
+    and stays in ``N``), else ``None``."""
+    N = [Y[0] + hball * B[1], Y[1] + hball * field.accel(t_span, B[0], B[1])]
+    return N if B[0].contains_interior(N[0]) and B[1].contains_interior(N[1]) else None
+
+
+def picard_box(field, t_span, Y, hball):
+    """An a priori enclosure over the times ``hball`` (``[0, h]`` or ``[-h, 0]``): iterate
+    ``B <- Y + hball f(B)``, widened, until :func:`contracts` verifies it; ``None`` if no box
+    verifies within ``PICARD_TRIES`` widenings."""
+    x, v = Y
+    N = [x + hball * v, v + hball * field.accel(t_span, x, v)]
+    for _ in range(PICARD_TRIES):
+        B = [n + arb(0, n.rad() + (abs(n.mid()) + 1) * arb(2) ** (-ctx.prec + 8)) for n in N]
+        verified = contracts(field, t_span, Y, hball, B)
+        if verified is not None:
+            return verified
+        N = [x + hball * B[1], v + hball * field.accel(t_span, B[0], B[1])]
+    return None
+
+
+class _Step:
+    """One Taylor step: ``sigma`` (exact start, from ``base``), ``h`` (exact), the centre
+    polynomials, the variational polynomials over the hull, the remainders, the frame at
+    its start ``(A, R)`` and the flow derivative ``D`` at its start."""
+
+    __slots__ = ("sigma", "end", "h", "t", "cx", "cv", "J", "rem", "E", "A", "R", "D")
+
+    def __init__(self, **kw):
+        for k, val in kw.items():
+            setattr(self, k, val)
+
+
+class ValidatedFlight:
+    """The flight with sign ``s`` from the balls ``(t0, x0, v0)`` (module docstring)."""
+
+    def __init__(self, model, t0, x0, v0, s: int, *, order=None, tol_bits=None,
+                 max_steps=MAX_STEPS):
+        if not model.position_forcing:
+            raise ValueError("ValidatedFlight: needs a scene with position forcing (wavenumber)")
+        if s not in (1, -1, 0) or (s == 0 and model.friction):
+            raise ValueError(f"s must be +1 or -1 (0 only without friction), got {s!r}")
+        for name, value, low in (("order", order, 2), ("tol_bits", tol_bits, 8),
+                                 ("max_steps", max_steps, 1)):
+            if value is not None and (isinstance(value, bool) or not isinstance(value, int)
+                                      or value < low):
+                raise ValueError(f"{name} must be an int >= {low} (or None), got {value!r}")
+        self.m, self.t0, self.x0, self.v0, self.s = model, t0, x0, v0, s
+        self.field = Field(model, s)
+        self.p = taylor_order(ctx.prec) if order is None else order
+        self.q = max(2, (self.p + 1) // 2)       # the order of the flow derivative's series
+        #: each step's remainder is below ``2^-tol_bits`` of the state's scale
+        self.tol_bits = ctx.prec if tol_bits is None else tol_bits
+        self.max_steps = max_steps
+        self.base = t0.lower()
+        self.delta = t0 - self.base
+        x, v, self.shift = self._shift(x0, v0)
+        mid = [x.mid(), v.mid()]
+        one, zero = arb(1), arb(0)
+        self._state = (arb(0), mid, [[one, zero], [zero, one]], [x - mid[0], v - mid[1]],
+                       [[one, zero], [zero, one]])
+        self.steps, self._starts = [], []
+        self._cap = self._step_cap()
+        self._shrink = SHRINK
+
+    # -- the start -----------------------------------------------------------------------
+    def _shift(self, x0, v0):
+        """The start box moved from the ball ``t0`` to the exact ``base`` (module docstring):
+        ``(x, v, factor)``."""
+        one, zero = arb(1), arb(0)
+        if self.delta.is_zero():
+            return x0, v0, [[one, zero], [zero, one]]
+        d = self.delta.upper()
+        span = self.base + _interval(d)
+        N = picard_box(self.field, span, [x0, v0], -_interval(d))
+        if N is None:
+            raise Unproved(f"flight from t = {self.t0.mid().str(15)}: no a priori enclosure "
+                           f"over the start time's ball")
+        e = ((self.field.lipschitz(span, N[0]) * d).exp() - 1).upper()
+        return N[0], N[1], _near_identity(e)
+
+    def _step_cap(self):
+        """The natural time scale of the flight: ``1 / (w + k (|v0| + 1) + sqrt(F (k+1) + f)
+        + c + 1)`` (no Taylor step of this equation reaches much further)."""
+        fl, m = self.field, self.m
+        scale = (fl.w + fl.k * (abs(self.v0) + 1) + (m.F * (fl.k + 1) + m.f).sqrt() + fl.c + 1)
+        return self._dyadic(CAP / scale.upper())
+
+    @staticmethod
+    def _dyadic(h):
+        """``h`` rounded down to ``STEP_BITS`` significant bits (an exact ball)."""
+        value = float(h.lower()) if isinstance(h, arb) else float(h)
+        if not value > 0:
+            raise Unproved("validated flight: the step size underflows")
+        e = math.floor(math.log2(value)) - STEP_BITS
+        return arb((int(value / 2.0 ** e), e))
+
+    # -- stepping ------------------------------------------------------------------------
+    def _tol(self, mid):
+        return (1 + abs(mid[0]) + abs(mid[1])) * arb(2) ** (-self.tol_bits)
+
+    def _guess(self, xs, tol):
+        """The step that makes the last terms of the centre's series ``~tol``."""
+        p, best = self.p, self._cap
+        for n, c in ((p, xs[p]), (p + 1, xs[p + 1]), (p, (p + 1) * xs[p + 1])):
+            mag = abs(c.mid())
+            if mag > 0:
+                h = float(((tol / mag).log() / n).exp().mid())
+                if h < float(best):
+                    best = self._dyadic(h)
+        return best
+
+    def _advance(self):
+        if len(self.steps) >= self.max_steps:
+            raise Unproved(f"flight from t = {self.t0.mid().str(15)}: more than "
+                           f"{self.max_steps} Taylor steps (the step budget)")
+        sigma, mid, A, R, D = self._state
+        p, fl = self.p, self.field
+        t = self.base + sigma
+        Y = [(mid[i] + A[i][0] * R[0] + A[i][1] * R[1]).union(mid[i]) for i in range(2)]
+        xs, _ = fl.series(t, mid[0], mid[1], p + 1)
+        tol = self._tol(mid)
+        guess = self._guess(xs, tol)
+        h = self._dyadic(guess * self._shrink)
+        for tries in range(HALVINGS):
+            rem = self._remainder(t, Y, h, tol)
+            if not isinstance(rem, arb):
+                break
+            h = self._dyadic(h * rem)
+        else:
+            raise Unproved(f"flight from t = {self.t0.mid().str(15)}: no Taylor step at "
+                           f"t = {t.mid().str(15)} (no a priori enclosure with a small "
+                           f"remainder: the box is too wide)")
+        _, cols = fl.series(t, Y[0], Y[1], self.q + 1, self.q)
+        J = [[arb_poly(cols[0]), arb_poly(cols[2])], [arb_poly(cols[1]), arb_poly(cols[3])]]
+        step = _Step(sigma=sigma, end=sigma + h, h=h, t=t, cx=arb_poly(xs[:p + 1]),
+                     cv=arb_poly([(n + 1) * xs[n + 1] for n in range(p + 1)]), J=J,
+                     rem=rem[0], E=rem[1], A=A, R=R, D=D)
+        if not step.end.is_exact():
+            raise Unproved("validated flight: a step time is not exact at this precision")
+        self.steps.append(step)
+        self._starts.append(float(sigma))
+        # the next guess starts where this one ended (a rejected try costs a whole series)
+        self._shrink = min(1.0, float(h / guess) * (0.97 if tries else 1.03))
+        self._state = self._next(step)
+
+    def _remainder(self, t, Y, h, tol):
+        """``((rx, rv), E)``: the Lagrange remainders' coefficients over the a priori box of
+        the step ``[t, t + h]`` from ``Y``, if that box exists, ``|rem| h^(p+1) <= tol`` and
+        ``|E| h^(q+1) <= sqrt(tol)``; else the factor (a ball below 1) by which to shorten the
+        step: 1/2 without a box, ``(tol / 2|rem|)^(1/(p+1))`` (at most 0.9) otherwise."""
+        p, q, fl = self.p, self.q, self.field
+        hball = _interval(h)
+        span = t + hball
+        B = picard_box(fl, span, Y, hball)
+        if B is None:
+            return arb(0.5)
+        bx, cols = fl.series(span, B[0], B[1], p + 2, q + 1)
+        rx, rv = bx[p + 1], (p + 2) * bx[p + 2]
+        e = ((fl.lipschitz(span, B[0]) * h).exp() - 1).upper()
+        E = mat_mul([[cols[0][q + 1], cols[2][q + 1]], [cols[1][q + 1], cols[3][q + 1]]],
+                    _near_identity(e))
+        shorten = [(abs(rx).upper() * h ** (p + 1), tol, p),
+                   (abs(rv).upper() * h ** (p + 1), tol, p),
+                   (max(abs(b).upper() for row in E for b in row) * h ** (q + 1), tol.sqrt(), q)]
+        factors = [((bound / (2 * worst)).log() / (n + 1)).exp().mid()
+                   for worst, bound, n in shorten if not worst <= bound]
+        if factors:
+            return min([arb(0.9)] + factors)
+        return (rx, rv), E
+
+    def _next(self, step):
+        """The set, frame and flow derivative at the end of ``step`` (the Lohner QR step)."""
+        h = step.h
+        centre, M, V = self._at(step, h)
+        new_mid = [centre[0].mid(), centre[1].mid()]
+        A = self._frame(M, step.R)
+        det = A[0][0] * A[1][1] - A[0][1] * A[1][0]
+        Ainv = [[A[1][1] / det, -A[0][1] / det], [-A[1][0] / det, A[0][0] / det]]
+        R = [a + b for a, b in zip(_mat_vec(mat_mul(Ainv, M), step.R),
+                                   _mat_vec(Ainv, [centre[i] - new_mid[i] for i in range(2)]))]
+        return step.end, new_mid, A, R, mat_mul(V, step.D)
+
+    @staticmethod
+    def _frame(M, R):
+        """The QR frame of ``mid M``: its column of largest ``|M e_i| rad(R_i)`` first (exact
+        entries, orthogonal up to rounding; the inverse is taken in balls)."""
+        cols = [[M[0][j].mid(), M[1][j].mid()] for j in range(2)]
+        weight = [(c[0] * c[0] + c[1] * c[1]).sqrt() * (R[j].rad() + abs(R[j].mid()))
+                  for j, c in enumerate(cols)]
+        q = cols[1] if weight[1] > weight[0] else cols[0]
+        norm = (q[0] * q[0] + q[1] * q[1]).sqrt()
+        if not norm > 0:
+            return [[arb(1), arb(0)], [arb(0), arb(1)]]
+        c, s = (q[0] / norm).mid(), (q[1] / norm).mid()
+        return [[c, -s], [s, c]]
+
+    def _at(self, step, tau):
+        """``(centre, M, V)`` at ``tau`` in ``step``: the centre's polynomial plus remainder
+        (balls), ``M = (sum V_n(Y) tau^n) A`` and the step's flow derivative at ``tau``."""
+        tp, tq = tau ** (self.p + 1), tau ** (self.q + 1)
+        centre = [step.cx(tau) + step.rem[0] * tp, step.cv(tau) + step.rem[1] * tp]
+        Jt = [[step.J[i][j](tau) for j in range(2)] for i in range(2)]
+        V = [[Jt[i][j] + step.E[i][j] * tq for j in range(2)] for i in range(2)]
+        return centre, mat_mul(Jt, step.A), V
+
+    # -- queries -------------------------------------------------------------------------
+    def _pieces(self, u):
+        """``(step, tau)`` for the parts of the local time ``u`` (``sigma = u + delta``)."""
+        sigma = u + self.delta
+        lo, hi = sigma.lower(), sigma.upper()
+        if lo < 0:          # a ball [0, b] reaches below 0 by the rounding of its radius only
+            if lo < -(hi - lo) * arb(2) ** -16:
+                raise Unproved("validated flight: a time before the flight's start was asked for")
+            lo = arb(0)
+        while not self.steps or not self.steps[-1].end > hi:
+            self._advance()
+        i = max(0, bisect_right(self._starts, float(lo)) - 1)
+        while i > 0 and self.steps[i].sigma > lo:
+            i -= 1
+        while not self.steps[i].end > lo:
+            i += 1
+        out = []
+        while i < len(self.steps) and self.steps[i].sigma <= hi:
+            st = self.steps[i]
+            a = (lo - st.sigma) if lo > st.sigma else arb(0)
+            b = (hi - st.sigma) if hi < st.end else st.h
+            out.append((st, a if sigma.is_exact() else a.union(b)))
+            i += 1
+        return out
+
+    def state(self, u):
+        """``(x, v)`` at the local time ``u`` (a ball), for every start of the box."""
+        return tuple(self.stack(u)[:2])
+
+    def stack(self, u):
+        """``[x, v, a, a', a'']`` at the local time ``u`` (the motion interface)."""
+        out = None
+        for st, tau in self._pieces(u):
+            centre, M, _ = self._at(st, tau)
+            z = _mat_vec(M, st.R)
+            s = self.field.stack(st.t + tau, centre[0] + z[0], centre[1] + z[1])
+            out = s if out is None else [a.union(b) for a, b in zip(out, s)]
+        return out
+
+    def derivative(self, u):
+        """The flight factor ``d(x, v)(t0 + u) / d(x0, v0)`` at a fixed start time (Table 1)."""
+        out = None
+        for st, tau in self._pieces(u):
+            _, _, V = self._at(st, tau)
+            Dm = mat_mul(mat_mul(V, st.D), self.shift)
+            out = Dm if out is None else [[a.union(b) for a, b in zip(r, q)] for r, q in zip(out, Dm)]
+        return out
+
+
+class FlightFactors:
+    """A ``BallModel`` whose Table 1 flight factor is the flow derivative of the walk's
+    validated flights (``reference.jacobian`` asks ``flow_derivative(start, t)``); every other
+    attribute is the model's."""
+
+    def __init__(self, model, flights):
+        self.model, self.flights = model, flights
+
+    def __getattr__(self, name):
+        return getattr(self.model, name)
+
+    def flow_derivative(self, start, t):
+        """``d(x, v)(t) / d(x, v)(t0)`` of the flight that began at ``start = (t0, x0, v0)``.
+
+        A flight of length zero (a start at rest) is the identity.  A flight the walk did not
+        take -- the bounces of a chatter run closed by its tail bound -- is followed by wall
+        contact, whose zero matrix replaces the product (``product_of_table1``): its factor is
+        the whole plane (balls of infinite radius), never a claim."""
+        one, zero = arb(1), arb(0)
+        if t is start[0] or (t - start[0]).is_zero():
+            return [[one, zero], [zero, one]]
+        flight = self.flights.get(id(start[0]))
+        if flight is None or flight.t0 is not start[0]:
+            anything = arb(0, math.inf)
+            return [[anything, anything], [anything, anything]]
+        return flight.derivative(t - start[0])

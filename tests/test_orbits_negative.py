@@ -1,0 +1,233 @@
+"""Orbit proofs refuse false statements (issue 24): ``reference.enclosure.orbits``.
+
+* A centre displaced outside its Krawczyk ball (the fixed point is not in the box): refused.
+  ``prove_periodic`` always polishes its centre by Newton steps, so the displaced centre is
+  posed one level down, to ``orbits._krawczyk`` (centre and radius given), which
+  ``prove_periodic`` calls with the polished centre.
+* A box wide enough to hold two fixed points (x1 and x2 near the fold ``f/F -> 2/pi``, one
+  itinerary): refused by the public ``prove_periodic(..., radius=...)``.
+* The type comes from the multiplier enclosures only: the saddle handed over as if it were the
+  centre is proved a saddle; a dissipative itinerary (turns, restitution, damping) never gets
+  the conservative ``det = 1`` and so never "elliptic"; a trace ball straddling 2 or -2, a
+  real multiplier straddling +-1, or ``det`` straddling 1 leave the type undecided.
+* A segment of fixed points with the wrong velocity: refused (``prove_segment``'s Newton
+  polish switched off, as the only way to pose it).
+* A box proof (``enclose_map`` over a box: ``P'(Z)`` of the Krawczyk step) holds the images of
+  the box's corners, so a proof over a smaller box than the one claimed is caught.
+
+Each false statement has a true twin, one step away, that the same call proves.
+"""
+from __future__ import annotations
+
+from fractions import Fraction
+
+import mpmath
+import pytest
+from flint import arb
+
+import reference
+from cross_check import scenes
+from reference import paper
+from reference.enclosure import enclose_map, orbits, prove_periodic, prove_segment
+from reference.enclosure.balls import DEFAULT_PREC, from_mpf, workprec
+from reference.enclosure.orbits import classify
+
+PREC = DEFAULT_PREC
+#: the default box half-width of prove_periodic, 2^-(prec/3)
+R = arb(2) ** -(PREC // 3)
+DECIDED = {"saddle", "elliptic", "attracting node", "repelling node", "attracting focus",
+           "repelling focus"}
+
+
+@pytest.fixture(scope="module")
+def symmetric():
+    """x1 (elliptic) and x2 (saddle) of fig:many:wide/f=0.3, proved, from the paper's closed
+    forms (reference.paper, corrected)."""
+    sc = scenes.scene("fig:many:wide/f=0.3")
+    out = {}
+    for branch, kind in ((1, "elliptic"), (2, "saddle")):
+        proof = prove_periodic(sc, *paper.symmetric_solution(sc, branch, dps=60).state0())
+        assert proof.proved and proof.kind == kind, proof.reason
+        out[kind] = proof
+    return sc, out
+
+
+def _krawczyk_at(sc, proof, dx, dv, r=R):
+    """``orbits._krawczyk`` on the box ``z +- r`` whose centre ``z`` is the proved fixed point's
+    midpoint moved by ``(dx, dv)`` (no Newton polish)."""
+    with workprec(PREC):
+        z = [(proof.point[0].mid() + dx).mid(), (proof.point[1].mid() + dv).mid()]
+        centre = enclose_map(sc, z[0], z[1], phase=proof.phase, prec=PREC, max_prec=PREC)
+        return orbits._krawczyk(sc, z, r, 1, proof.phase, PREC, centre)
+
+
+@pytest.mark.parametrize("kind", ["elliptic", "saddle"])
+@pytest.mark.parametrize("dx, dv", [(1.5, 0), (0, 1.5), (-1.1, 1.1), (10, -10), (1e12, 0)])
+def test_a_centre_displaced_outside_the_krawczyk_ball_is_refused(symmetric, kind, dx, dv):
+    sc, proofs = symmetric
+    proof = proofs[kind]
+    with workprec(PREC):
+        moved = _krawczyk_at(sc, proof, arb(dx) * R, arb(dv) * R)
+    assert not moved.proved and "K(Z) is not inside Z" in moved.reason, moved.reason
+
+
+@pytest.mark.parametrize("kind", ["elliptic", "saddle"])
+def test_a_centre_displaced_inside_the_ball_is_proved_and_encloses_the_fixed_point(symmetric, kind):
+    """The true twin: moved by a quarter of the radius, the fixed point is still in the box."""
+    sc, proofs = symmetric
+    proof = proofs[kind]
+    with workprec(PREC):
+        moved = _krawczyk_at(sc, proof, R / 4, -R / 4)
+        assert moved.proved and moved.kind == kind, moved.reason
+        assert all(moved.point[i].overlaps(proof.point[i]) for i in range(2))
+
+
+def _fold_states():
+    """x1 and x2 of ``fold/near`` (``f = 2/pi - 10^-6``: 0.0226 apart) at ``t = T/2``."""
+    sc = scenes.scene("fold/near")
+    out = []
+    for branch in (1, 2):
+        x0, v0 = paper.symmetric_solution(sc, branch, dps=60).state0()
+        with mpmath.workdps(60):
+            half = +mpmath.pi / sc.mpf("omega")
+        log = reference.trajectory(sc, x0, v0, half, dps=60)
+        out.append((log.x_end, log.v_end))
+    return sc, out
+
+
+def test_a_box_holding_two_fixed_points_is_refused():
+    sc, (z1, z2) = _fold_states()
+    with mpmath.workdps(60):
+        gap = max(abs(z1[i] - z2[i]) for i in range(2))
+    assert gap < mpmath.mpf("0.03")
+    for z, kind in ((z1, "elliptic"), (z2, "saddle")):
+        wide = prove_periodic(sc, *z, phase=Fraction(1, 2), radius=gap * mpmath.mpf("1.5"))
+        assert not wide.proved and "K(Z) is not inside Z" in wide.reason, wide.reason
+        alone = prove_periodic(sc, *z, phase=Fraction(1, 2))          # the default box: one
+        assert alone.proved and alone.kind == kind, alone.reason
+
+
+def test_the_saddle_handed_over_as_the_centre_is_proved_a_saddle(symmetric):
+    """The caller hands over x2 where it expects the centre: the type is the enclosures'.
+    Its multipliers hold the closed-form ones (reference.paper), real, one inside and one
+    outside the unit circle, and ``classify`` of its trace and determinant agrees."""
+    sc, proofs = symmetric
+    saddle = proofs["saddle"]
+    want = sorted((m.real for m in paper.symmetric_solution(sc, 2, dps=60).multipliers()), key=float)
+    with workprec(PREC):
+        got = sorted(saddle.multipliers, key=lambda b: float(b.mid()))
+        assert all(isinstance(b, arb) for b in got)
+        assert abs(got[0]) < 1 and abs(got[1]) > 1
+        assert all(b.overlaps(from_mpf(w) + arb(0, arb(10) ** -50)) for b, w in zip(got, want))
+        assert classify(sc, saddle.trace, saddle.det, ["impact", "impact"])[0] == "saddle"
+        # the centre's trace with the saddle's itinerary is still the centre: nothing but the
+        # enclosures decide
+        centre = proofs["elliptic"]
+        assert classify(sc, centre.trace, centre.det, saddle.itinerary)[0] == "elliptic"
+
+
+def _ball(mid, rad=0):
+    return arb(mid) + arb(0, rad) if rad else arb(mid)
+
+
+CONSERVATIVE = scenes.scene("fig:wide:b")                     # f = 0, e = 1, c = 0
+IMPACTS = ["impact", "impact"]
+
+
+@pytest.mark.parametrize("tr", [(2, 1e-30), (-2, 1e-30), (2 + 1e-25, 1e-20), (-2 - 1e-25, 1e-20),
+                                (2, 0), (-2, 0)])
+def test_a_trace_straddling_2_or_minus_2_leaves_the_type_undecided(tr):
+    """``det = 1`` exactly (flights and elastic impacts), so the multipliers are real iff
+    ``|tr| > 2``: a trace ball holding 2 or -2 (or equal to it: a double multiplier +-1) decides
+    nothing.  The twins 10^-20 inside and outside are elliptic and a saddle."""
+    with workprec(PREC):
+        kind, stability, _ = classify(CONSERVATIVE, _ball(*tr), arb(1), IMPACTS)
+        assert kind not in DECIDED and "not" in stability, (kind, stability)
+        edge = _ball(tr[0]).mid()
+        sign = 1 if edge > 0 else -1
+        inside = classify(CONSERVATIVE, edge - sign * arb("1e-15") + arb(0, arb("1e-30")), arb(1), IMPACTS)
+        outside = classify(CONSERVATIVE, edge + sign * arb("1e-15") + arb(0, arb("1e-30")), arb(1), IMPACTS)
+        assert inside[0] == "elliptic" and outside[0] == "saddle"
+
+
+@pytest.mark.parametrize("what, scene, kinds, tr, det", [
+    # real multipliers 1.5 and 1 +- 1e-20 (tr = l1 + l2, det = l1 l2): the second straddles 1
+    ("a real multiplier straddling 1", scenes.scene("fig:many:wide/f=0.3"), ["impact", "turn"],
+     (2.5, 1e-20), (1.5, 1.5e-20)),
+    ("a real multiplier straddling -1", scenes.scene("fig:many:wide/f=0.3"), ["turn", "turn"],
+     (-2.5, 1e-20), (1.5, 1.5e-20)),
+    # complex pair with |lambda|^2 = det straddling 1
+    ("det straddling 1, complex", scenes.scene("effect:restitution"), IMPACTS, (0.5, 1e-20), (1, 1e-20)),
+    ("tr^2 - 4 det straddling 0", scenes.scene("effect:damping"), IMPACTS, (1, 1e-20), (0.25, 1e-20)),
+])
+def test_a_multiplier_on_the_unit_circle_edge_leaves_the_type_undecided(what, scene, kinds, tr, det):
+    with workprec(PREC):
+        kind, stability, _ = classify(scene, _ball(*tr), _ball(*det), kinds)
+    assert kind not in DECIDED, (what, kind)
+
+
+@pytest.mark.parametrize("scene, kinds", [
+    (scenes.scene("fig:many:wide/f=0.3"), ["impact", "turn", "impact", "turn"]),    # friction
+    (scenes.scene("effect:zeno"), IMPACTS),                                          # e = 0.8
+    (scenes.scene("effect:damping"), IMPACTS),                                       # c = 0.05
+])
+def test_a_dissipative_orbit_is_never_elliptic(scene, kinds):
+    """Only flights and elastic impacts without damping have ``det P' = 1`` exactly; with a
+    turn, restitution or damping the determinant is the enclosure's: ``det = 0.5`` and a trace
+    in ``(-2, 2)`` is an attracting focus, never a centre."""
+    with workprec(PREC):
+        kind, _, _ = classify(scene, arb("0.3"), arb("0.5"), kinds)
+    assert kind == "attracting focus"
+
+
+def test_a_segment_with_the_wrong_velocity_is_refused(monkeypatch):
+    """The no-impact attractor of fig:many:wide/f=0.3 over x0 in [9, 11]: proved at v*; with
+    Newton's polish off (``NEWTON_STEPS = 0``: the caller's ``v`` is the centre), ``v* + 1e-20``
+    (far outside the ball ``v +- 2^-106``) is refused, ``v*`` moved by ``2^-112`` is proved."""
+    sc = scenes.scene("fig:many:wide/f=0.3")
+    proof = prove_segment(sc, "9", "11", "0.5")
+    assert proof.proved, proof.reason
+    with workprec(PREC):
+        v_star = proof.point[1].mid()
+        monkeypatch.setattr(orbits, "NEWTON_STEPS", 0)
+        wrong = prove_segment(sc, "9", "11", v_star + arb("1e-20"))
+        assert not wrong.proved and "1D Krawczyk" in wrong.reason, wrong.reason
+        near = prove_segment(sc, "9", "11", v_star + arb(2) ** -112)
+        assert near.proved and near.point[1].overlaps(proof.point[1]), near.reason
+
+
+def test_a_segment_that_reaches_a_wall_is_refused():
+    sc = scenes.scene("fig:many:wide/f=0.3")
+    proof = prove_segment(sc, "18", "19.9", "0.5")
+    assert not proof.proved and "without impacts" in proof.reason
+
+
+# --- boxes: what Krawczyk's P'(Z) rests on ----------------------------------------------------
+@pytest.mark.parametrize("name, x, v", [
+    ("fig:narrow", "0.3", "0.2"),
+    ("fig:narrow-with-friction", "0.27689242730111235", "-0.5784993511404171"),
+    ("effect:damping", "0.2", "0.3"),
+])
+def test_a_box_proof_holds_the_corners_of_its_box(name, x, v):
+    """``enclose_map`` over ``x +- 10^-30``, ``v +- 10^-30`` claims ``Phi`` and ``Phi'`` for every
+    start of the box; at a box this small the balls are barely wider than the image of the box
+    (``|Phi'| 10^-30``), so a proof over a smaller box than claimed misses the corners' images.
+    The corners against the point reference at 60 digits (error ~1e-55)."""
+    sc = scenes.scene(name)
+    r = mpmath.mpf("1e-30")
+    enc = enclose_map(sc, x, v, x_radius=r, v_radius=r)
+    assert enc.proved, enc.reason
+    with mpmath.workdps(60):
+        x0, v0 = mpmath.mpf(x), mpmath.mpf(v)
+    slack = arb(0, arb(10) ** -50)
+    for dx in (-1, 1):
+        for dv in (-1, 1):
+            with mpmath.workdps(60):
+                corner = (x0 + dx * r, v0 + dv * r)
+            xr, vr = reference.stroboscopic_map(sc, *corner, dps=60)
+            J = reference.jacobian(sc, *corner, dps=60)
+            with workprec(enc.prec):
+                assert enc.phi[0].overlaps(from_mpf(xr) + slack), (dx, dv, enc.phi[0], xr)
+                assert enc.phi[1].overlaps(from_mpf(vr) + slack), (dx, dv, enc.phi[1], vr)
+                assert all(enc.jacobian[i][j].overlaps(from_mpf(J[i][j]) + slack)
+                           for i in range(2) for j in range(2))

@@ -1,0 +1,201 @@
+"""``python -m cross_check verify``: user scenes, the one scene-file reader, user golden data.
+
+One quick verify run (module fixture, on a 2-worker Dask cluster reached through ``--scheduler``)
+covers the shipped example file (restitution and damping), an inline scene with ``F <= f``
+(unnamed: ``inline``) and an inline frictionless one; the golden directory it writes is read back
+by ``score``, ``prove`` and the pytest plugin.  Malformed scene files exit with status 2 and name
+the file, the scene and the field, without a traceback.
+"""
+from __future__ import annotations
+
+import json
+import re
+import textwrap
+
+import pytest
+
+from cross_check import __main__ as cli
+from cross_check import golden, scenefile, scenes
+from cross_check.verify import document
+
+pytest_plugins = ["pytester"]
+
+distributed = pytest.importorskip("distributed", reason="verify runs on dask.distributed (pip install -e '.[atlas]')")
+
+EXAMPLE = golden.files().parent / "scenes" / "example.toml"
+STUCK = "F=1 f=1.2 omega=1 l=0 r=1"                       # F <= f, unnamed: "inline"
+FRICTIONLESS = "name=frictionless F=1 f=0 omega=2*pi l=-1 r=1"
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("verify")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=":0") as cluster:
+        status = cli.main(["verify", str(EXAMPLE), "--scene", STUCK, "--scene", FRICTIONLESS, "--quick",
+                           "--out", str(out), "--scheduler", cluster.scheduler_address])
+    return status, out
+
+
+def _report(out):
+    return (out / "report.md").read_text()
+
+
+def test_the_example_file_and_inline_scenes_verify_quick(run):
+    status, out = run
+    report = _report(out)
+    assert status == 0, report[:3000]
+    names = [sc.name for sc in scenefile.read(EXAMPLE)] + ["inline", "frictionless"]
+    assert {sc.has("restitution") and sc.has("damping") for sc in scenefile.read(EXAMPLE)} >= {True}
+    for name in names:
+        row = next(line for line in report.splitlines() if line.startswith(f"| `{name}` |"))
+        assert row.endswith("| ok |") and "(100%)" in row, row
+        assert (out / "scenes" / scenes.slug(name) / "portrait.png").read_bytes()[:4] == b"\x89PNG"
+        assert json.loads((out / "scenes" / scenes.slug(name) / "scorecard-fast.json").read_text())["adapter"] == "fast"
+        data = golden.load(name, out)                 # verify's --out: golden/ found inside it
+        assert data["provenance"]["dps"] == golden.GOLDEN_DPS and data["scene"]["name"] == name
+        assert all(i["enclosure"]["proved"] for c in data["cases"] for i in c["inputs"].values())
+    assert "Every check holds" in report
+
+
+def test_f_le_f_and_frictionless_have_different_hard_cases_and_the_report_says_why(run):
+    _, out = run
+    built = {n: {c["name"] for c in golden.load(n, out)["cases"] if c["exact"] == "decimal"}
+             for n in ("inline", "frictionless")}
+    assert {"at_rest", "stopping"} <= built["inline"] and not built["inline"] & {"grazing", "sticking", "chatter"}
+    assert {"grazing", "crossing_pair", "turn_at_wall"} <= built["frictionless"]
+    assert not built["frictionless"] & {"sticking", "stick_slip_boundary", "chatter", "at_rest"}
+    report = _report(out)
+    inline = report[report.index("## `inline`"):report.index("## `frictionless`")]
+    frictionless = report[report.index("## `frictionless`"):]
+    assert "- chatter: F <= f: the force never pushes into a wall beyond friction" in inline
+    assert "- grazing: the force never decelerates a flight into r beyond friction" in inline
+    assert "- sticking: frictionless (f = 0): no sticking and no stick-slip boundary" in frictionless
+    assert "- chatter: f = 0 and e = 1: the bounces do not shrink" in frictionless
+    gear = report[report.index("## `gear-rattle`"):report.index("## `soft-stops`")]
+    assert "- chatter: explicit" in gear and "- stick_slip_boundary: v reaches 0" in gear
+
+
+def test_score_and_prove_read_the_golden_directory_of_verify(run, tmp_path, capsys):
+    _, out = run
+    assert cli.main(["score", "fast", "--golden-dir", str(out), "--periods", "1", "--out", str(tmp_path)]) == 0
+    card = json.loads((tmp_path / "scorecard.json").read_text())
+    assert {c["id"].split("/")[0] for c in card["cases"]} == {"gear-rattle", "soft-stops", "inline", "frictionless"}
+    assert cli.main(["prove", "--golden-dir", str(out / "golden"), "--scene", STUCK]) == 0
+    assert re.search(r"golden: (\d+) of \1 inputs proved", capsys.readouterr().out)
+    assert cli.main(["score", "fast", "--golden-dir", str(out), "--scene", "name=other F=1 f=0 omega=1 l=0 r=5"]) == 2
+    assert "no golden data" in capsys.readouterr().err
+
+
+def test_the_pytest_plugin_reads_the_golden_directory_of_verify(run, pytester):
+    _, out = run
+    pytester.makepyfile(test_mine=textwrap.dedent("""
+        import numpy as np
+        from cross_check.score.adapters import FAST
+
+        def test_fast(golden_case):
+            x, v = FAST.step(golden_case.params, np.array([golden_case.x]), np.array([golden_case.v]), 1)
+            golden_case.assert_close(x[0], v[0])
+    """))
+    result = pytester.runpytest("--golden-dir", str(out / "golden"), "-p", "no:cacheprovider")
+    n = sum(len(golden.load(name, out)["cases"]) for name in golden.names_in(out))
+    outcomes = result.parseoutcomes()
+    assert outcomes.get("failed", 0) == 0 and outcomes["passed"] + outcomes.get("skipped", 0) == n
+    ids = [line for line in result.outlines if "golden_case" in line or "frictionless/" in line]
+    assert result.ret == 0 and outcomes["passed"] > n // 2, ids
+
+
+# --- malformed scene files: exit 2, the file, the scene and the field named --------------
+GOOD = 'name = "a"\nF = 1\nf = 0.3\nomega = 1\nl = 0\nr = 3\n'
+MALFORMED = [
+    ("[[scene]]\n" + GOOD.replace("omega = 1\n", ""), r"scene 1 \('a'\): missing field 'omega'"),
+    ("[[scene]]\n" + GOOD + "frction = 0.1\n", r"scene 1 \('a'\): unknown key 'frction'"),
+    ("[[scene]]\n" + GOOD.replace("F = 1", "F = -1"), r"field 'F': Scene: F must be >= 0"),
+    ("[[scene]]\n" + GOOD.replace("r = 3", "r = 0"), r"field 'r': Scene: r must be > l"),
+    ("[[scene]]\n" + GOOD + "restitution = 1.5\n", r"field 'restitution': Scene: restitution must be in \[0, 1\]"),
+    ("[[scene]]\n" + GOOD.replace('"a"', '"fig:narrow"'), r"field 'name': 'fig:narrow' is a built-in"),
+    ("[[scene]]\n" + GOOD + "[[scene]]\n" + GOOD, r"scene 'a': field 'name': duplicate name"),
+    ("[[scene]]\n" + GOOD.replace("f = 0.3", "f = = 0.3"), r"not TOML: .*line 4"),
+    ("[[scene]]\n" + GOOD.replace('name = "a"\n', ""), r"scene 1: missing field 'name'"),
+    ('[[scene]]\n' + GOOD.replace("f = 0.3", 'f = "0.3 + x"'), r"field 'f': Scene: f must be a number"),
+    ("[scene]\n" + GOOD, r"no scenes: write one \[\[scene\]\] table"),
+]
+
+
+@pytest.mark.parametrize("text, message", MALFORMED, ids=[m[1][:30] for m in MALFORMED])
+def test_a_malformed_scene_file_exits_2_naming_the_field(tmp_path, capsys, text, message):
+    path = tmp_path / "scenes.toml"
+    path.write_text(text)
+    assert cli.main(["verify", str(path), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert str(path) in err and re.search(message, err), err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("command", [["golden"], ["report", "--quick"], ["prove", "--golden"], ["score", "fast"]])
+def test_every_command_takes_user_scenes_and_rejects_bad_ones(tmp_path, capsys, command):
+    path = tmp_path / "bad.toml"
+    path.write_text("[[scene]]\n" + GOOD.replace("omega = 1", "omega = 0"))
+    assert cli.main(command + ["--scenes-file", str(path)]) == 2
+    assert "field 'omega': Scene: omega must be > 0" in capsys.readouterr().err
+    assert cli.main(command + ["--scene", "F=1 f=0.3 omega=1 l=0"]) == 2
+    assert "missing field 'r'" in capsys.readouterr().err
+
+
+def test_golden_writes_a_user_scene_where_score_finds_it(tmp_path, capsys):
+    out = tmp_path / "g"
+    assert cli.main(["golden", "--scene", "name=resting " + STUCK, "--n-sample", "1", "--out", str(out)]) == 0
+    assert golden.names_in(out) == ["resting"] and golden.load("resting", out)["scene"]["f"] == "1.2"
+    assert cli.main(["score", "fast", "--golden-dir", str(out), "--periods", "1", "--out", str(tmp_path)]) == 0
+    assert not (golden.DEFAULT_DIR / "resting.json").exists()          # never into the shipped data
+
+
+def test_inline_scenes_are_read_exactly_and_named():
+    a, b = scenefile.collect(inline=["F=1 f=0.3 omega=2*pi l=-1 r=(2*pi)**2/10", "name=mine F=1 f=0 omega=1 l=0 r=1"])
+    assert (a.name, b.name) == ("inline", "mine")
+    assert a.exact("f") == scenes.scene("fig:many:2pi/f=0.3").exact("f") and a.exact("omega").text == "2*pi"
+    toml = scenefile.read(EXAMPLE)[0]
+    assert str(toml.f) == "0.1" and toml.exact("restitution").numerator == 17   # 0.85 read as 17/20
+    with pytest.raises(scenefile.SceneFileError, match="'F=1' .*given twice|given twice"):
+        scenefile.parse_inline("F=1 F=2 f=0 omega=1 l=0 r=1")
+    with pytest.raises(scenefile.SceneFileError, match="is not key=value"):
+        scenefile.parse_inline("F=1 f omega=1 l=0 r=1")
+
+
+def test_the_registry_has_the_built_ins_first_then_user_scenes():
+    sc = scenefile.parse_inline("name=reg-test F=1 f=0.2 omega=1 l=0 r=2")
+    scenefile.register_all([sc])
+    assert scenes.names()[:len(scenes.SCENES)] == list(scenes.SCENES) and "reg-test" in scenes.names()
+    assert scenes.scene("reg-test") is sc and "reg-test" not in scenes.SCENES
+    assert [c.name for c in scenes.hard_states("reg-test")][:2] == ["grazing", "crossing_pair"]
+    with pytest.raises(ValueError, match="built-in"):
+        scenes.register(scenes.SCENES["fig:narrow"].replace(name="fig:narrow", F=2))
+
+
+def _result(**over):
+    """A verify result of one scene with every check holding, then ``over`` changes."""
+    inp = {"enclosure": {"proved": True, "radius": "1e-70"}}
+    got = {"golden file": ({"document": {"cases": [{"name": "sample-0", "inputs": {"exact": inp}}]},
+                            "dropped": []}, 1.0),
+           "agreement": ({"samples": {"mismatch_outside_band": []}, "hard": []}, 1.0),
+           "scorecard fast": ({"flagged": []}, 1.0)}
+    got.update(over)
+    return got
+
+
+def test_each_check_of_verify_fails_when_its_statement_is_false():
+    assert document.checks(_result()) == []
+    bad = {"enclosure": {"proved": False, "reason": "a grazing start"}}
+    cases = {"golden file": ({"document": {"cases": [{"name": "sample-0", "inputs": {"exact": bad}}]},
+                              "dropped": ["s / sample-3 / exact: dps 90 vs 110: value 1 != 2"]}, 1.0),
+             "agreement": ({"samples": {"mismatch_outside_band": ["sample-1"]},
+                            "hard": [{"case": "grazing", "same": False, "stable": True, "ref_band": False}]}, 1.0),
+             "scorecard fast": ({"flagged": ["chatter"]}, 1.0),
+             "orbits 1": RuntimeError("boom")}
+    for what, value in cases.items():
+        failed = document.checks(_result(**{what: value}))
+        assert failed, what
+    assert len(document.checks(_result(**{"golden file": cases["golden file"]}))) == 2
+    hard_only = ({"document": {"cases": []}, "dropped": ["s / grazing / exact: dps 90 vs 110: ..."]}, 1.0)
+    assert document.checks(_result(**{"golden file": hard_only})) == []   # a hard case left out: listed, not failed
