@@ -100,10 +100,11 @@ def box_of(n, i, j, window=PLANE):
 
 def numerical(fF, R):
     """Whether each claim holds numerically at ``(f/F, w^2 R/F)`` (the atlas's evaluators)."""
-    sym, sub = C.symmetric(fF, R), C.subharmonic(fF, R)
+    pt = C.Point(fF, R)
+    sym, sub = C.symmetric(pt), C.subharmonic(pt)
     return {"x1-centre": bool(sym["x1"] and sym["x1_trace"] is not None and abs(sym["x1_trace"]) < 2),
             "x2-saddle": bool(sym["x2"] and sym["x2_trace"] is not None and sym["x2_trace"] > 2),
-            "period3-centre": bool(sub["m3"])}
+            "period3-centre": bool(sub["period3"])}
 
 
 def _samples(box):
