@@ -29,9 +29,9 @@ def client():
         yield c
 
 
-def test_grid_4_over_the_whole_plane(tmp_path, capsys):
-    assert cli.main(["prove", "--atlas", "--grid", "4", "--max-leaves", "1", "--workers", "2",
-                     "--out", str(tmp_path)]) == 0
+def test_grid_4_over_the_whole_plane(client, tmp_path, capsys):
+    assert cli.main(["prove", "--atlas", "--grid", "4", "--max-leaves", "1", "--scheduler",
+                     client.scheduler.address, "--out", str(tmp_path)]) == 0
     records = json.loads((tmp_path / "proved_atlas.json").read_text())
     assert len(records) == 4 * 4 * 3 and all(KEYS <= set(r) for r in records)
     assert {r["claim"] for r in records} == set(proved.CLAIMS)

@@ -98,13 +98,19 @@ def box_of(n, i, j, window=PLANE):
     return ParamBox(F=1, f=(fe[j], fe[j + 1]), omega=1, l=0, r=(Re[i], Re[i + 1]))
 
 
-def numerical(fF, R):
-    """Whether each claim holds numerically at ``(f/F, w^2 R/F)`` (the atlas's evaluators)."""
-    pt = C.Point(fF, R)
-    sym, sub = C.symmetric(pt), C.subharmonic(pt)
-    return {"x1-centre": bool(sym["x1"] and sym["x1_trace"] is not None and abs(sym["x1_trace"]) < 2),
-            "x2-saddle": bool(sym["x2"] and sym["x2_trace"] is not None and sym["x2_trace"] > 2),
-            "period3-centre": bool(sub["period3"])}
+def numerical(fF, R, claims=tuple(CLAIMS)):
+    """Whether each claim holds numerically at ``(f/F, w^2 R/F)``: the atlas's evaluators
+    (``claims.symmetric`` for x1 and x2; for period 3 the centre ``claims.subharmonic`` tests,
+    ``Point.centre`` of either branch with ``|tr| < 2``, without its periods 1 and 5)."""
+    pt, out = C.Point(fF, R), {}
+    if "x1-centre" in claims or "x2-saddle" in claims:
+        sym = C.symmetric(pt)
+        out["x1-centre"] = bool(sym["x1"] and sym["x1_trace"] is not None and abs(sym["x1_trace"]) < 2)
+        out["x2-saddle"] = bool(sym["x2"] and sym["x2_trace"] is not None and sym["x2_trace"] > 2)
+    if "period3-centre" in claims:
+        trs = [pt.centre(branch, 3, ("centre",)) for branch in (1, 2)]
+        out["period3-centre"] = any(tr is not None and abs(tr) < 2 for tr in trs)
+    return out
 
 
 def _samples(box):
@@ -176,7 +182,7 @@ def evaluate_chunk(n, cells, claims, window=PLANE, max_leaves=MAX_LEAVES):
     out = []
     for i, j in cells:
         box = box_of(n, i, j, window)
-        flags = [numerical(*p) for p in _samples(box)]
+        flags = [numerical(*p, claims) for p in _samples(box)]
         for claim in claims:
             hits = [fl[claim] for fl in flags]
             inside = True if all(hits) else (False if any(hits) else None)
