@@ -58,11 +58,15 @@ class Cover:
         return tuple(out)
 
 
-def _split_name(box, root, hint):
-    if hint is not None and box.width(hint) > 0:
-        return hint
-    wide = [n for n in PARAMS if root.width(n) > 0]
-    return max(wide, key=lambda n: box.width(n) / root.width(n))
+def _split_name(box, root, hint, min_fraction):
+    """The parameter to halve: the proof's ``hint`` (where the spread weighs most), else the
+    relatively widest; one already narrower than ``min_fraction`` of the root box gives way to
+    the next.  None when every one is."""
+    wide = sorted((n for n in PARAMS if root.width(n) > 0), key=lambda n: -box.width(n) / root.width(n))
+    for n in ([hint] if hint in wide else []) + wide:
+        if box.width(n) >= root.width(n) * min_fraction * 2:
+            return n
+    return None
 
 
 def cover(box: ParamBox, guess: Callable, *, phase, periods: int = 1,
@@ -97,8 +101,8 @@ def cover(box: ParamBox, guess: Callable, *, phase, periods: int = 1,
         if why is None:
             out.leaves.append(proof)
             continue
-        name = _split_name(leaf, box, proof.split)
-        if leaf.width(name) < box.width(name) * min_fraction:
+        name = _split_name(leaf, box, proof.split, min_fraction)
+        if name is None:
             out.reason, out.failed = f"on {leaf}: {why}", proof
             return out
         low, high = leaf.split(name)
