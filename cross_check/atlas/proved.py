@@ -297,6 +297,23 @@ def write(out_dir, records, n, stats, window=PLANE):
     return summ
 
 
+def _closed_forms(ax, claim):
+    """The closed forms the region is held to: the fold ``f/F = 2/(m pi)``; for the centres the
+    parabolic curve ``k h = 2`` (``tr = -2``), ``w^2 R/F = S_m (m^2 pi^2 / 2 - 1)``; for ``x2``
+    its non-sticking boundary ``w^2 R/F = S_1`` (``S_m = sqrt(4 - m^2 pi^2 (f/F)^2)``)."""
+    import numpy as np
+
+    branch, m, kind = CLAIMS[claim]
+    fold = 2 / (m * math.pi)
+    f = np.linspace(0, fold, 400)
+    S = np.sqrt(np.maximum(4 - (m * math.pi * f) ** 2, 0))
+    ax.axvline(fold, color="k", ls="--", lw=0.8, label=f"fold f/F = 2/({m} pi)")
+    if kind == "elliptic":
+        ax.plot(f, S * (m * m * math.pi ** 2 / 2 - 1), color="tab:blue", lw=1.0, label="tr = -2 (k h = 2)")
+    else:
+        ax.plot(f, S, color="tab:purple", lw=1.0, label="x2 non-sticking boundary")
+
+
 def draw(records, n, out_dir, window=PLANE):
     """One PNG per claim: the numerical region (grey: inside, light: some samples), the proved
     boxes (green) and the boxes inside the region that failed (red outline)."""
@@ -320,17 +337,18 @@ def draw(records, n, out_dir, window=PLANE):
         ax.set_yscale("log")
         ax.set_xlim(float(window[0]), float(window[1]))
         ax.set_ylim(float(window[2]), float(window[3]))
-        ax.axvline(2 / (CLAIMS[claim][1] * math.pi), color="k", ls="--", lw=0.8)
+        _closed_forms(ax, claim)
         ax.set_xlabel("f/F")
         ax.set_ylabel("w^2 R/F")
         s = summary([r for r in records if r["claim"] == claim])[claim]
         frac = "n/a" if s["fraction_inside"] is None else f"{100 * s['fraction_inside']:.0f}%"
         ax.set_title(f"proved: {claim} ({n} x {n}); {s['proved_inside']}/{s['inside']} boxes "
                      f"inside the numerical region ({frac})", fontsize=9)
+        lines, _ = ax.get_legend_handles_labels()
         ax.legend(handles=[Patch(color="0.55", label="numerical region (5 of 5 samples)"),
                            Patch(color="0.85", label="partly (some samples)"),
                            Patch(color="tab:green", alpha=0.65, label="proved for every parameter"),
-                           Patch(fill=False, ec="tab:red", label="inside, not proved")],
+                           Patch(fill=False, ec="tab:red", label="inside, not proved")] + lines,
                   fontsize=7, loc="upper right")
         fig.tight_layout()
         path = pathlib.Path(out_dir) / f"proved_atlas_{claim}.png"

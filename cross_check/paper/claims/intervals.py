@@ -225,7 +225,7 @@ def lines(claim_id, data=None, path=PATH) -> list:
     f_star = Fraction(fold["interval"][1])
     delta = _fold_gap(data["statements"])
     if claim_id == "existence-condition":
-        return [{"statement": f"x1 (centre, |tr| < 2) and x2 (saddle, tr > 2) of Fig. many:wide exist, "
+        return [{"statement": f"x1 (centre, -2 < tr < 2) and x2 (saddle, tr > 2) of Fig. many:wide exist, "
                               f"non-sticking with two impacts, for every f/F in [0, f*], f* = 2/pi - "
                               f"{delta:.2e}", "interval": fold["interval"], "boxes": len(fold["boxes"]),
                  "gap_to_2_over_pi": delta, "source": src}]
@@ -241,7 +241,7 @@ def lines(claim_id, data=None, path=PATH) -> list:
         return [{"statement": f"the period-3 orbit of Fig. many:2pi (two impacts in three periods, "
                               f"non-sticking) exists for every f in [0, {float(Fraction(p3['interval'][1])):.12g}]",
                  "interval": p3["interval"], "boxes": len(p3["boxes"]), "source": src},
-                {"statement": f"it is elliptic (|tr| < 2 proved, det = 1) on {pieces}; at f = "
+                {"statement": f"it is elliptic (-2 < tr < 2 proved, det = 1) on {pieces}; at f = "
                               f"{float(Fraction(ell['f_res'])):.6f} (k h = 2) tr = -2 exactly (closed form)",
                  "interval": [p["interval"] for p in ell["pieces"]],
                  "boxes": sum(len(p["boxes"]) for p in ell["pieces"]), "source": src}]
