@@ -15,6 +15,12 @@ Without either flag both run (with ``--golden-dir`` or user scenes, ``--golden``
 the shipped data; ``--scenes-file``/``--scene`` (``cross_check.scenefile``) name user scenes whose
 golden data it holds.  ``--json FILE`` writes what was proved.  Exit status 1 if a
 stored golden record disagrees with its proof or a digit lies outside its ball.
+
+* ``--atlas``: the claims proved over parameter boxes (``cross_check.atlas.proved``; its own
+  options: ``prove --atlas --help``);
+* ``--intervals``: the paper's branches proved on parameter intervals, written to the shipped
+  ``cross_check/data/proved_intervals.json`` (``cross_check.paper.claims.intervals``; its own
+  options: ``prove --intervals --help``).
 """
 from __future__ import annotations
 
@@ -89,8 +95,15 @@ def prove_orbits(ids=None, quick=False, progress=print) -> list[dict]:
 
 
 def main(argv=None) -> int:
-    """``prove [--golden] [--orbits] [--scenes NAME ...] [--json FILE]``."""
+    """``prove [--golden] [--orbits] [--scenes NAME ...] [--json FILE]``; ``--atlas`` and
+    ``--intervals`` hand the rest of the line to their own commands."""
     import argparse
+
+    argv = list(sys.argv[1:] if argv is None else argv)
+    for flag, module in (("--atlas", "cross_check.atlas.proved"), ("--intervals", "cross_check.paper.claims.intervals")):
+        if flag in argv:
+            import importlib
+            return importlib.import_module(module).main([a for a in argv if a != flag])
     ap = argparse.ArgumentParser(prog="python -m cross_check prove", description=__doc__.splitlines()[0],
                                  epilog="Without --golden or --orbits both run (about a minute on 2 cores).")
     ap.add_argument("--golden", action="store_true", help="re-prove every golden input and check the stored balls")
@@ -101,6 +114,10 @@ def main(argv=None) -> int:
                     help="--golden: the golden data of DIR (written by `golden` or `verify`), not the shipped data")
     scenefile.add_arguments(ap, "--golden: prove the golden data of")
     ap.add_argument("--json", metavar="FILE", help="write what was proved as JSON")
+    ap.add_argument("--atlas", action="store_true",
+                    help="the proved atlas over (f/F, w^2 R/F) boxes, on Dask (see prove --atlas --help)")
+    ap.add_argument("--intervals", action="store_true",
+                    help="the branches proved on parameter intervals (see prove --intervals --help)")
     args = ap.parse_args(argv)
     try:
         user = scenefile.from_args(args)

@@ -188,7 +188,22 @@ def claims_section(quick: bool, progress, claims=None) -> list[str]:
 
     out = ["| " + " | ".join(keys) + " |", "|" + "---|" * len(keys)]
     out += ["| " + " | ".join(cell(d, k) for k in keys) + " |" for d in rows]
-    return out + proofs_table(rows)
+    return out + proofs_table(rows) + intervals_table(rows)
+
+
+def intervals_table(rows) -> list[str]:
+    """The statements proved for every parameter of an interval (rows' ``proved_on``, read from
+    the shipped ``cross_check/data/proved_intervals.json``)."""
+    lines = [(d["id"], p) for d in rows for p in d.get("proved_on", [])]
+    if not lines:
+        return []
+    out = ["", "Proved on an interval (rigorous continuation: a chain of parameter boxes, each orbit "
+           "proved for every parameter of its box; `python -m cross_check prove --intervals` writes "
+           "`cross_check/data/proved_intervals.json`, which the tests re-prove in part):", "",
+           "| claim | proved on an interval | boxes |", "|---|---|---|"]
+    for cid, p in lines:
+        out.append(f"| {cid} | {p['statement'].replace('|', '/')} | {p.get('boxes', '-')} |")
+    return out
 
 
 def _multipliers_text(mults) -> str:
@@ -262,12 +277,14 @@ def atlas_section(atlas_dir, report_dir) -> list[str]:
     make = ("`python -m pip install -e '.[atlas]' && python -m cross_check atlas`; the report then "
             "shows its maps here.")
     if not (pathlib.Path(atlas_dir) / "atlas.zarr").exists():
-        return [f"No atlas in `{atlas_dir}/` yet.  Make one (64 x 64, about 40 CPU seconds): " + make]
+        return ([f"No atlas in `{atlas_dir}/` yet.  Make one (64 x 64, about 40 CPU seconds): " + make]
+                + proved_atlas_lines(atlas_dir, report_dir))
     try:
         from cross_check.atlas import maps, open_atlas
         ds = open_atlas(atlas_dir).load()
     except (ImportError, ValueError) as exc:
-        return [f"The atlas in `{atlas_dir}/` cannot be shown: {exc}.  " + make]
+        return ([f"The atlas in `{atlas_dir}/` cannot be shown: {exc}.  " + make]
+                + proved_atlas_lines(atlas_dir, report_dir))
     nf, nr = ds.sizes["f_over_F"] - 1, ds.sizes["w2R_over_F"]
     lines = [f"{nf} x {nr} grid of (f/F, w^2 R/F) (+ the f = 0 column), {ds.attrs['scene']}; claims: "
              f"{', '.join(ds.attrs['claims'])}; store `{atlas_dir}/atlas.zarr` "
@@ -282,4 +299,32 @@ def atlas_section(atlas_dir, report_dir) -> list[str]:
         pngs = [pathlib.Path(p) for p in maps.draw(ds, str(report_dir))]
     for claim, png in zip(ds.attrs["claims"], pngs):
         lines += [f"![atlas {claim}]({os.path.relpath(png, report_dir)})", ""]
-    return lines
+    return lines + proved_atlas_lines(atlas_dir, report_dir)
+
+
+def proved_atlas_lines(atlas_dir, report_dir) -> list[str]:
+    """The proved atlas (``python -m cross_check prove --atlas``) when ``proved_atlas_meta.json``
+    exists: per claim the boxes proved for every parameter, against the numerical region."""
+    import json
+    import pathlib
+
+    path = pathlib.Path(atlas_dir) / "proved_atlas_meta.json"
+    if not path.exists():
+        return []
+    meta = json.loads(path.read_text())
+    prov = meta["provenance"]
+    out = ["", f"Proved over boxes (`python -m cross_check prove --atlas`, {prov['grid']} x {prov['grid']} "
+           f"boxes, {prov['stats']['seconds']} s on {prov['stats']['workers']} workers): each claim proved "
+           "for every parameter of a box (`reference.enclosure`, parameters as balls).", "",
+           "| claim | boxes proved | inside the numerical region | proved inside | off the tr = -2 curve |",
+           "|---|---|---|---|---|"]
+    for claim, s in meta["summary"].items():
+        frac = "-" if s["fraction_inside"] is None else f"{100 * s['fraction_inside']:.1f}%"
+        off = "-" if s["fraction_off_tr_minus_2"] is None else f"{100 * s['fraction_off_tr_minus_2']:.1f}%"
+        out.append(f"| {claim} | {s['proved']} | {s['inside']} | {s['proved_inside']} ({frac}) | {off} |")
+    out.append("")
+    for claim in meta["summary"]:
+        png = pathlib.Path(atlas_dir) / f"proved_atlas_{claim}.png"
+        if png.exists():
+            out += [f"![proved {claim}]({os.path.relpath(png, report_dir)})", ""]
+    return out

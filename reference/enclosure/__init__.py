@@ -24,14 +24,28 @@ What is proved, and what is not
   to ~1e-7..1e-12 T only (the walk follows bounces in absolute coordinates while it can, then
   bounds the tail on both sides); the map does not depend on it.
 
+Over parameter boxes
+--------------------
+A :class:`~reference.enclosure.params.ParamBox` (``F, f, omega, l, r, restitution, damping``,
+each a number or an exact pair ``(lo, hi)``) in place of the scene makes both statements hold
+for every parameter of the box at once: the same itinerary, the Krawczyk inclusion, the
+multipliers (``boxes``: the parametric Krawczyk operator in multiple-shooting form,
+``shooting``; ``sensitivity`` and ``centred``: derivatives in the parameters and mean-value
+enclosures that keep a wide box tight).  ``continuation`` covers a box by sub-boxes and an
+interval by a chain of boxes (rigorous continuation).  A point box is its scene: the point
+API is unchanged.
+
 Modules: ``balls`` (precision, conversions, the scene as balls), ``motion`` (flights and
 rests on balls, event functions), ``series`` (the position-forced flight's Taylor
 coefficients on balls), ``lohner`` (validated flights), ``certify`` (exclusion and Krawczyk
 roots), ``walk`` (the itinerary, event by event, chatter tails), ``maps`` (``enclose_map``),
-``orbits`` (``prove_periodic``).
+``orbits`` (``prove_periodic``); over parameter boxes ``params``, ``sensitivity``, ``centred``,
+``shooting``, ``boxes``, ``continuation``, ``branches``.
 """
 from reference.enclosure.certify import Unproved
 from reference.enclosure.maps import MapEnclosure, enclose_map
 from reference.enclosure.orbits import OrbitProof, prove_periodic, prove_segment
+from reference.enclosure.params import ParamBox
 
-__all__ = ["enclose_map", "MapEnclosure", "prove_periodic", "prove_segment", "OrbitProof", "Unproved"]
+__all__ = ["enclose_map", "MapEnclosure", "prove_periodic", "prove_segment", "OrbitProof", "Unproved",
+           "ParamBox"]

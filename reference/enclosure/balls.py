@@ -68,10 +68,17 @@ def from_number(value) -> arb:
 
 
 def parameter(scene, name: str) -> arb | None:
-    """A scene parameter as a ball of its exact value (``pi`` expressions included)."""
+    """A scene parameter as a ball of its exact value (``pi`` expressions included); for a
+    parameter box (``reference.enclosure.params``) the ball ``[lo, hi]`` of its exact ends."""
     exact = scene.exact(name)
     if exact is None:
         return None
+    if isinstance(exact, tuple):
+        return span(*(_exact_ball(end) for end in exact))
+    return _exact_ball(exact)
+
+
+def _exact_ball(exact) -> arb:
     if isinstance(exact, Fraction):
         return from_fraction(exact)
     return exact.evaluate(from_fraction, arb.pi())
@@ -132,6 +139,9 @@ class BallModel:
         self.k = parameter(scene, "wavenumber")
         self.T = 2 * arb.pi() / self.w
         self.friction = scene.has("friction")
+        #: a parameter box with f in [0, hi]: frictionless and friction scenes together (the
+        #: walk refuses sticking there: ``reference.enclosure.params``)
+        self.friction_mixed = bool(self.f.contains(0)) and not self.f.is_zero()
         self.restitution = scene.has("restitution")
         self.damping = scene.has("damping")
         self.position_forcing = scene.has("position_forcing")

@@ -35,6 +35,10 @@ MAX_PIECES = 4000
 #: Krawczyk: tries from the widest ball down (each 2^-RHO_STEP narrower), and tightenings.
 RHO_STEP = 6
 MAX_TIGHTEN = 200
+#: Epsilon-inflations of a Krawczyk ball when the ladder finds none (wide boxes of starts).
+INFLATE = 8
+#: Over a wide box of starts the tightening goes on while a step shrinks the ball this much.
+WIDE_RATIO = 0.98
 
 
 class Unproved(Exception):
@@ -95,8 +99,10 @@ def root(motion, fn, guess, lo, what: str):
     """The unique zero of ``fn`` near ``guess`` (an exact ball), above ``lo``.
 
     Returns ``(wide, tight)``: ``wide`` a ball in which the zero is unique for every start
-    of the box, ``tight`` the enclosure of the zero.  :class:`Unproved` if no ball works (a
-    double zero: grazing or tangency).
+    of the box (the contracting ball ``H`` itself, so that the exclusion before it stops as far
+    from the zeros as the contraction allows: over a wide box of starts the zeros spread and
+    ``K(H)`` hugs them), ``tight`` the enclosure of the zero.  :class:`Unproved` if no ball
+    works (a double zero: grazing or tangency).
     """
     guess = _refine(motion, fn, guess, lo)
     slope = _stack_value(motion, fn, guess, 1)
@@ -106,12 +112,15 @@ def root(motion, fn, guess, lo, what: str):
     Y = 1 / slope.mid()
     widest = ((guess - lo) / 4).mid()
     floor = ((abs(guess) + 1) * arb(2) ** (-ctx.prec + 16)).mid()
-    wide = _first_contracting(motion, fn, guess, Y, widest, arb(2) ** -RHO_STEP, floor)
-    if wide is None:
+    found = _first_contracting(motion, fn, guess, Y, widest, arb(2) ** -RHO_STEP, floor, both=True)
+    if found is None:       # a wide start box: the contracting balls lie between two rungs
+        found = _inflated(motion, fn, guess, Y, lo, floor)
+    if found is None:
         raise Unproved(f"{what}: no Krawczyk ball around u = {guess.str(20)} for {fn.name} "
                        f"(a double zero, or the box is too wide)")
-    narrow = _first_contracting(motion, fn, guess, Y, floor, arb(2) ** RHO_STEP, wide.rad())
-    return wide, _tighten(motion, fn, narrow if narrow is not None else wide, Y)
+    unique, image = found
+    narrow = _first_contracting(motion, fn, guess, Y, floor, arb(2) ** RHO_STEP, image.rad())
+    return unique, _tighten(motion, fn, narrow if narrow is not None else image, Y)
 
 
 def _refine(motion, fn, guess, lo):
@@ -136,29 +145,68 @@ def _refine(motion, fn, guess, lo):
     return guess
 
 
-def _first_contracting(motion, fn, guess, Y, rho, factor, stop):
-    """The first ball ``guess +- rho`` (``rho`` scaled by ``factor`` from try to try, until it
-    passes ``stop``) whose Krawczyk image lies in its interior, as that image; else None."""
+def _first_contracting(motion, fn, guess, Y, rho, factor, stop, both=False):
+    """The first ball ``H = guess +- rho`` (``rho`` scaled by ``factor`` from try to try, until
+    it passes ``stop``) whose Krawczyk image ``K`` lies in its interior: ``K`` (``(H, K)`` with
+    ``both``); else None."""
     for _ in range(4 * MAX_TIGHTEN):
         if (factor < 1 and not rho > stop) or (factor > 1 and not rho < stop):
             return None
         H = arb(guess, rho)
         K = _krawczyk(motion, fn, H, Y)
         if H.contains_interior(K):
-            return K
+            return (H, K) if both else K
         rho = (rho * factor).mid()
     return None
 
 
+def _inflated(motion, fn, guess, Y, lo, floor):
+    """Epsilon-inflation (Rump): ``rho = 2 |Y g(guess)|``, then ``rho <- 2 |K(H) - guess|``
+    while ``K(H)`` is not inside ``H = guess +- rho`` (``INFLATE`` tries, ``H`` above ``lo``):
+    the ball a wide box of starts needs, which the ladder of ``2^RHO_STEP`` may step over.
+    ``(H, K)`` as :func:`_widest` gives them, or None."""
+    rho = (2 * abs(Y * _stack_value(motion, fn, guess, 0)) + floor).upper()
+    for _ in range(INFLATE):
+        H = arb(guess, rho)
+        if not H.lower() > lo:
+            return None
+        K = _krawczyk(motion, fn, H, Y)
+        if H.contains_interior(K):
+            return _widest(motion, fn, guess, Y, lo, rho, K)
+        grown = (2 * abs(K - guess)).upper()
+        if not grown.is_finite():
+            return None
+        rho = max(grown, (rho * 1.5).upper())
+    return None
+
+
+def _widest(motion, fn, guess, Y, lo, rho, K):
+    """``(H, K)``: the widest ball ``H = guess +- 2^j rho`` (``j <= INFLATE``) that still
+    contracts (the zero is unique on it, which leaves the exclusion less to prove next to the
+    zero), and the image ``K`` of the first one (the tightening starts there)."""
+    wide = arb(guess, rho)
+    for _ in range(INFLATE):
+        rho = (2 * rho).upper()
+        H = arb(guess, rho)
+        if not H.lower() > lo or not H.contains_interior(_krawczyk(motion, fn, H, Y)):
+            break
+        wide = H
+    return wide, K
+
+
 def _tighten(motion, fn, H, Y):
     """``H <- K(H) & H`` with a fresh ``Y`` each time, while the radius keeps shrinking (the
-    Krawczyk operator is a contraction of ratio ``|1 - Y g'(H)|``, quadratic once narrow)."""
+    Krawczyk operator is a contraction of ratio ``|1 - Y g'(H)|``, quadratic once narrow).
+    A ball still wider than half the working precision (a wide box of starts: the zeros
+    spread, the contraction is linear) goes on while it shrinks by ``WIDE_RATIO`` a step."""
+    wide = (abs(H.mid()) + 1) * arb(2) ** (-ctx.prec // 2)
     for _ in range(MAX_TIGHTEN):
         slope = _stack_value(motion, fn, H.mid(), 1)
         if not slope.contains(0):
             Y = 1 / slope.mid()
         K = _krawczyk(motion, fn, H, Y).intersection(H)
-        if not K.rad() < H.rad() * 0.75:
+        ratio = WIDE_RATIO if K.rad() > wide else 0.75
+        if not K.rad() < H.rad() * ratio:
             return K
         H = K
     return H

@@ -20,9 +20,13 @@ from flint import arb
 
 from reference.api import _model_here, check_count
 from reference.enclosure.balls import (DEFAULT_PREC, BallModel, from_fraction, from_number,
-                                       rel_radius, to_mpf, workprec)
+                                       parameter, rel_radius, to_mpf, workprec)
 from reference.enclosure.certify import Unproved
+from reference.enclosure.centred import centred
 from reference.enclosure.lohner import FlightFactors
+from reference.enclosure.params import PARAMS, ParamBox
+from reference.enclosure.sensitivity import PARAMETERS as SENSITIVE
+from reference.enclosure.sensitivity import parameter_jacobian
 from reference.enclosure.walk import Walk
 from reference.integrator import MAX_EVENTS, integrate
 from reference.jacobian import product_of_table1
@@ -54,6 +58,9 @@ class MapEnclosure:
     events: list = field(default_factory=list)
     prec: int = 0
     pieces: int = 0
+    #: ``d Phi^k / d p`` for the requested ``parameters`` (columns ``(dx/dp, dv/dp)``), enclosed
+    #: over the box (``reference.enclosure.sensitivity``); None if not requested or not covered
+    dparams: Optional[list] = None
 
     def rel_radius(self) -> float:
         """The largest ``rad / |mid|`` of the two components of ``phi`` (``inf`` unproved)."""
@@ -68,6 +75,20 @@ def _ball_model(scene, prec):
 
 
 def _point_log(scene, x, v, phase, periods, prec, max_events):
+    """The point integrator's log from ``(x, v)`` (at a box's midpoint parameters); the same
+    call again (a proof re-walks one centre on growing boxes) is served from a small cache."""
+    point = scene.midpoint() if isinstance(scene, ParamBox) else scene
+    return _cached_point_log(point, _key(x), _key(v), phase, periods, prec, max_events)
+
+
+def _key(value):
+    man, exp = value.mid().man_exp()
+    return int(man), int(exp)
+
+
+@lru_cache(maxsize=64)
+def _cached_point_log(scene, x, v, phase, periods, prec, max_events):
+    x, v = arb(x), arb(v)
     dps = int(prec / 3.33) + GUARD_DIGITS
     if scene.has("position_forcing"):     # Taylor flights: the walk polishes the event times
         dps = min(dps, POINT_DPS_TAYLOR)
@@ -80,8 +101,8 @@ def _point_log(scene, x, v, phase, periods, prec, max_events):
 
 
 def _check(scene, periods, prec, max_prec, max_events):
-    if not isinstance(scene, Scene):
-        raise TypeError(f"scene must be a reference.Scene, got {type(scene).__name__}")
+    if not isinstance(scene, (Scene, ParamBox)):
+        raise TypeError(f"scene must be a reference.Scene or a ParamBox, got {type(scene).__name__}")
     if not (isinstance(periods, Fraction) and periods > 0):
         check_count("periods", periods, 1)
     check_count("prec", prec, 64)
@@ -102,7 +123,8 @@ def _box(value, radius, name):
 
 
 def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, phase=0, prec=DEFAULT_PREC,
-                max_prec=MAX_PREC, rel_radius=None, max_events=MAX_EVENTS) -> MapEnclosure:
+                max_prec=MAX_PREC, rel_radius=None, max_events=MAX_EVENTS,
+                parameters=(), centred=False) -> MapEnclosure:
     """Enclose ``Phi^periods`` and its derivative over the box ``x +- x_radius``,
     ``v +- v_radius`` (numbers as in ``reference.stroboscopic_map``: int, float, decimal str,
     Fraction, mpf, or an arb ball for ``x``, ``v``).  ``phase`` (a rational in ``[0, 1)``, as
@@ -115,15 +137,26 @@ def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, phase=0, prec
     balls are relatively wider than that is redone at twice the precision (up to
     ``max_prec``; the narrowest proof is returned).  ``max_events`` bounds the point
     integrator.
+
+    ``scene`` may be a :class:`~reference.enclosure.params.ParamBox`: the statement then holds
+    for every parameter of the box (the point log is taken at its midpoint; a point box runs
+    the point code on its scene).  ``parameters`` (names among ``F, f, l, r, restitution``)
+    asks for ``dparams``, the derivative of ``Phi^k`` with respect to them, enclosed over the
+    box (``reference.enclosure.sensitivity``; flights, impacts and turns only).  ``centred``
+    encloses ``Phi'`` (and ``dparams``) in mean-value form over the event data
+    (``reference.enclosure.centred``): much tighter over a wide box, the same over a point.
     """
     _check(scene, periods, prec, max_prec, max_events)
+    if isinstance(scene, ParamBox) and scene.is_point:
+        scene = scene.scene()
     phase, periods = _phase(phase), Fraction(periods)
     last, best = None, None
     while prec <= max_prec:
         with workprec(prec):
             X, V = _box(x, x_radius, "x"), _box(v, v_radius, "v")
             try:
-                best = _prove(scene, X, V, phase, periods, prec, max_events)
+                best = _prove(scene, X, V, phase, periods, prec, max_events, tuple(parameters),
+                              centred)
             except Unproved as exc:
                 last = str(exc)
         if best is not None and (rel_radius is None or best.rel_radius() <= rel_radius):
@@ -144,7 +177,7 @@ def _phase(phase):
     return value
 
 
-def _prove(scene, X, V, phase, periods, prec, max_events):
+def _prove(scene, X, V, phase, periods, prec, max_events, parameters=(), centred=False):
     model = _ball_model(scene, prec)
     points, walls = _point_log(scene, X.mid(), V.mid(), phase, periods, prec, max_events)
     t0 = model.T * from_fraction(phase)
@@ -154,5 +187,27 @@ def _prove(scene, X, V, phase, periods, prec, max_events):
     J = product_of_table1(FlightFactors(model, walk.flights) if walk.flights else model, log)
     if not all(b.is_finite() for row in J for b in row):
         raise Unproved("Phi' is not enclosed: a flight factor the walk did not take survives")
+    sens = parameter_jacobian(model, log, parameters) if parameters else None
+    cols = None if sens is None else sens[1]
+    if centred and (isinstance(scene, ParamBox) or not (X.is_exact() and V.is_exact())):
+        J, cols = _centred(scene, X, V, phase, periods, prec, max_events, parameters, model, log,
+                           (J, cols))
     return MapEnclosure(True, phi=(log.x_end, log.v_end), jacobian=J, events=list(log),
-                        prec=prec, pieces=walk.pieces)
+                        prec=prec, pieces=walk.pieces, dparams=cols)
+
+
+def _centred(scene, X, V, phase, periods, prec, max_events, parameters, model, log, plain):
+    """``Phi'`` and ``dPhi/dp`` in mean-value form over the box (``reference.enclosure.centred``)
+    around ``u~``: the start box's centre and the midpoints of the varying parameters that have
+    derivatives (``sensitivity.PARAMETERS``); any other varying parameter (``omega``, ``c``)
+    stays a ball in the centre's walk too, so that the form holds for every parameter.  The
+    plain enclosures if the centre is not proved."""
+    names = [n for n in PARAMS if isinstance(scene, ParamBox) and scene.width(n) > 0
+             and n in SENSITIVE]
+    point = scene.replace(**{n: scene.mid(n) for n in names}) if names else scene
+    try:
+        at = _prove(point, X.mid(), V.mid(), phase, periods, prec, max_events, parameters)
+    except Unproved:
+        return plain
+    deltas = [X - X.mid(), V - V.mid()] + [parameter(scene, n) - parameter(point, n) for n in names]
+    return centred(model, log, names, parameters, deltas, (at.jacobian, at.dparams), plain)

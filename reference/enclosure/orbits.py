@@ -23,9 +23,7 @@ point that is not isolated (``det(P' - I) = 0``, a family of fixed points) canno
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Optional
 
 import mpmath
 from flint import arb
@@ -34,38 +32,13 @@ import reference
 from reference.api import check_count
 from reference.enclosure.balls import DEFAULT_PREC, from_mpf, from_number, to_mpf, workprec
 from reference.enclosure.balls import span as span_ball
+from reference.enclosure.kinds import OrbitProof, classify
 from reference.enclosure.maps import enclose_map
+from reference.enclosure.params import ParamBox
 from reference.jacobian import mat_mul
 
 #: Newton steps on the midpoints before the proof (each one enclosure of ``P`` at a point).
 NEWTON_STEPS = 30
-
-
-@dataclass
-class OrbitProof:
-    """The outcome of :func:`prove_periodic`.
-
-    ``proved``: a unique fixed point of ``Phi^k`` lies in ``box`` (centre +- ``radius``), in
-    the balls ``point = (x, v)``; ``multipliers`` their enclosures (real balls, or
-    ``(re, im)`` pairs for a complex pair); ``kind`` the type the enclosures prove and
-    ``stability`` what that says (and what it does not); ``itinerary`` the event kinds of one
-    orbit period.  Else ``reason``.
-    """
-
-    proved: bool
-    periods: int
-    reason: Optional[str] = None
-    point: tuple = ()
-    radius: float = 0.0
-    multipliers: list = field(default_factory=list)
-    trace: object = None
-    det: object = None
-    kind: str = ""
-    stability: str = ""
-    itinerary: list = field(default_factory=list)
-    prec: int = 0
-    seconds: float = 0.0
-    phase: object = 0
 
 
 def _mat_sub_identity(J):
@@ -132,7 +105,20 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
     it in the longest stretch between events (``(x, v)`` is then the state at ``t = 0``).  ``radius``: the
     half-width of the box (default ``2^(-prec/3)``: wide enough to hold the fixed point after
     Newton, narrow enough that the wrapping of a long itinerary stays small).
+
+    ``scene`` may be a :class:`~reference.enclosure.params.ParamBox`: the proof then holds for
+    every parameter of the box (``reference.enclosure.boxes``: the state boxes are found by
+    epsilon-inflation, so ``radius`` must be None); a point box is its scene.
     """
+    if isinstance(scene, ParamBox):
+        if scene.is_point:
+            scene = scene.scene()
+        else:
+            if radius is not None:
+                raise ValueError("prove_periodic: over a parameter box the state box is found by "
+                                 "inflation; radius must be None")
+            from reference.enclosure.boxes import prove_periodic_box  # boxes builds on this module
+            return prove_periodic_box(scene, x, v, periods=periods, phase=phase, prec=prec)
     check_count("periods", periods, 1)
     start = time.perf_counter()
     with workprec(prec):
@@ -189,45 +175,6 @@ def _multipliers(scene, K, periods, prec, r, enc_mid, enc):
     return OrbitProof(True, periods, point=tuple(K), radius=float(r), multipliers=mults,
                       trace=tr, det=det, kind=kind, stability=stability,
                       itinerary=[e.kind for e in enc_mid.events], prec=prec)
-
-
-def classify(scene, tr, det, kinds):
-    """``(kind, stability, multipliers)`` from enclosures of ``tr`` and ``det`` of ``P'``.
-
-    ``det P' = 1`` exactly when the orbit has only flights and elastic impacts (no turn,
-    stop or contact) and no damping: every such Table 1 factor has determinant 1 (flight
-    ``[[1, h], [0, 1]]``, reflection ``[[-1, 0], [*, -1]]``; under position forcing the
-    flight factor solves ``V' = [[0, 1], [A_x, 0]] V``, trace 0, so ``det V = 1`` by
-    Liouville) -- a theorem, used as such.
-    """
-    conservative = (all(k == "impact" for k in kinds) and not scene.has("restitution")
-                    and not scene.has("damping"))
-    if conservative:
-        det = arb(1)
-    disc = tr * tr - 4 * det
-    if disc > 0:
-        root = disc.sqrt()
-        l1, l2 = (tr + root) / 2, (tr - root) / 2
-        big = [abs(l) > 1 for l in (l1, l2)]
-        small = [abs(l) < 1 for l in (l1, l2)]
-        if (big[0] and small[1]) or (big[1] and small[0]):
-            return "saddle", "unstable (hyperbolic saddle: proved)", [l1, l2]
-        if all(small):
-            return "attracting node", "asymptotically stable (hyperbolic: proved)", [l1, l2]
-        if all(big):
-            return "repelling node", "unstable (hyperbolic: proved)", [l1, l2]
-        return "real multipliers", "type not decided by the enclosures", [l1, l2]
-    if disc < 0:
-        re, im = tr / 2, (-disc).sqrt() / 2
-        if conservative:
-            return ("elliptic", "linearly stable: non-real multipliers on the unit circle "
-                    "(proved, det = 1 exactly); nonlinear stability not proved (KAM)", [(re, im)])
-        if det < 1:
-            return "attracting focus", "asymptotically stable (|lambda|^2 = det < 1: proved)", [(re, im)]
-        if det > 1:
-            return "repelling focus", "unstable (|lambda|^2 = det > 1: proved)", [(re, im)]
-        return "complex multipliers", "modulus not decided by the enclosures", [(re, im)]
-    return "undecided", "tr^2 - 4 det encloses 0: real or complex not decided", []
 
 
 def prove_segment(scene, x_lo, x_hi, v, *, prec=DEFAULT_PREC) -> OrbitProof:

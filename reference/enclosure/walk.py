@@ -151,6 +151,7 @@ class Walk:
             order = {"velocity": 1} if m.friction else {motion.wall_name(side): 2}
             return self.to_flight(-side, order)
         if held:
+            self._refuse_mixed_stick("a start that sticks")
             self.take("stick")
             self.emit("stick", arb(0))
             self.mode = "stick"
@@ -260,11 +261,18 @@ class Walk:
             self.to_flight(-s, {"velocity": 1})
             return False
         if kind == "stick" and sA > -m.f:
+            self._refuse_mixed_stick(f"a stop at t = {self.t.mid().str(15)}")
             self.emit("stick", arb(0))
             self.mode = "stick"
             return False
         raise Unproved(f"a zero of the velocity at t = {self.t.mid().str(15)} where the force "
                        f"may be at the friction level (a stick-slip boundary)")
+
+    def _refuse_mixed_stick(self, what):
+        """A parameter box with ``f`` in ``[0, hi]`` has no sticking at ``f = 0``: refused."""
+        if self.m.friction_mixed:
+            raise Unproved(f"{what} in a parameter box with f in [0, hi]: the frictionless "
+                           f"scene (f = 0) of the box cannot stick (split the box at f > 0)")
 
     def _chatter_ahead(self, side):
         """The index of the point integrator's chatter event if the run at ``side`` ends in

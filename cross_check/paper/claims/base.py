@@ -10,7 +10,9 @@ Shared tools: ``fl`` (JSON-friendly floats), ``itinerary`` (event counts of the 
 whole periods), ``fast_points`` (``dynamics.periodic.find_periodic_points``), ``refined``
 (that point polished by ``dynamics.periodic.newton`` on the reference at ``DPS`` digits) and
 ``prove`` (a computer-assisted proof of a periodic orbit, ``reference.enclosure``: a claim
-whose verdict rests on an orbit lists its proofs in ``Outcome.proved``, the row's ``proved``).
+whose verdict rests on an orbit lists its proofs in ``Outcome.proved``, the row's ``proved``;
+a statement proved for every parameter of an interval is in ``Outcome.proved_on``, the row's
+``proved_on``, read from the shipped ``intervals`` data).
 """
 from __future__ import annotations
 
@@ -43,6 +45,8 @@ class Outcome:
     corrected: str | None = None
     parameters: dict | None = None
     proved: list | None = None
+    #: statements proved for every parameter of an interval (``intervals.lines``)
+    proved_on: list | None = None
 
 
 @dataclass(frozen=True)
@@ -69,6 +73,8 @@ class Claim:
                "parameters": out.parameters or self.parameters, "numbers": out.numbers, "note": self.note}
         if out.proved is not None:
             row["proved"] = out.proved
+        if out.proved_on is not None:
+            row["proved_on"] = out.proved_on
         return row
 
 

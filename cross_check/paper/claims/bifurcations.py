@@ -11,6 +11,7 @@ import numpy as np
 
 from reference import paper as P
 from cross_check.dynamics.continuation import extended_newton
+from cross_check.paper.claims import intervals
 from cross_check.paper.claims.base import DPS, Outcome, claim, fast_points, fl, pick, prove, refined
 from cross_check.scenes import resonance, two_pi, wide
 
@@ -39,7 +40,7 @@ def fold_fcrit(quick):
                    fold_point=[fl(x), fl(v)], fold_point_closed_form=[fl(a) for a in sol.state0()],
                    fold_det=fl(mpmath.det(J)))
     ok = abs(out["f_crit_minus_2_over_pi"]) < 1e-12 and counts["0.64"]["centre"] == 0 and counts["0.63"]["centre"] == 1
-    return Outcome("reproduced" if ok else "not reproduced", out)
+    return Outcome("reproduced" if ok else "not reproduced", out, proved_on=intervals.lines("fold-fcrit"))
 
 
 @claim("resonance-3-1",

@@ -11,6 +11,7 @@ import mpmath
 import reference
 from reference import paper as P
 from reference.scene import Scene
+from cross_check.paper.claims import intervals
 from cross_check.paper.claims.base import DPS, Outcome, claim, fl, itinerary, period, prove, residual
 from cross_check.scenes import FIGURE_SCENES, resonance, scene, two_pi, wide, xpot
 
@@ -77,7 +78,7 @@ def existence(quick):
             out[f"{label}_exists"] = sols[0] is not None
             if sols[0] is not None:
                 out[f"{label}_fixed_point_residual"] = residual(sc, *sols[0].state0())
-    return Outcome("reproduced", out)
+    return Outcome("reproduced", out, proved_on=intervals.lines("existence-condition"))
 
 
 @claim("nonstick-condition",

@@ -12,6 +12,7 @@ import mpmath
 import numpy as np
 
 from reference import paper as P
+from cross_check.paper.claims import intervals
 from cross_check.paper.claims.base import (SHIFT, Outcome, claim, fast_points, fl, itinerary, pick, prove,
                                            ref_newton, refined)
 from cross_check.scenes import narrow, two_pi, wide
@@ -184,4 +185,5 @@ def subharmonic(quick):
         out[f"f{f}"] = row
     out["period3_symmetric_existence_bound_2F_over_3pi"] = fl(P.existence_bound(3))
     ok = bool(out["f0.2"]["period3_centres"]) and not out["f0.3"]["period3_centres"]
-    return Outcome("reproduced" if ok else "not reproduced", out, proved=proofs)
+    return Outcome("reproduced" if ok else "not reproduced", out, proved=proofs,
+                   proved_on=intervals.lines("subharmonic-islands"))
