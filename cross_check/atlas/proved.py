@@ -46,6 +46,7 @@ from fractions import Fraction
 import mpmath
 from flint import arb
 
+from cross_check import cluster
 from cross_check.atlas import claims as C
 from reference import paper as P
 from reference.enclosure.balls import decimal_ball, from_fraction, radius_text, workprec
@@ -192,15 +193,6 @@ def evaluate_chunk(n, cells, claims, window=PLANE, max_leaves=MAX_LEAVES):
     return out
 
 
-def _client(scheduler, workers):
-    from distributed import Client, LocalCluster
-
-    if scheduler:
-        return Client(scheduler), None
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0")
-    return Client(cluster), cluster
-
-
 def compute(n, claims=tuple(CLAIMS), *, scheduler=None, workers=2, client=None, chunk=CHUNK,
             progress=None, window=PLANE, max_leaves=MAX_LEAVES):
     """``(records, stats)``: every claim on every box, in grid order (``i`` over ``w^2 R/F``,
@@ -210,23 +202,16 @@ def compute(n, claims=tuple(CLAIMS), *, scheduler=None, workers=2, client=None, 
         raise ValueError(f"unknown proved-atlas claim(s) {unknown}; known: {', '.join(CLAIMS)}")
     if not (isinstance(n, int) and not isinstance(n, bool) and 2 <= n <= 256):
         raise ValueError(f"grid must be an int in [2, 256], got {n!r}")
-    if not (isinstance(workers, int) and 1 <= workers <= 256):
-        raise ValueError(f"workers must be an int in [1, 256], got {workers!r}")
+    cluster.check_workers(workers)
     if not (isinstance(max_leaves, int) and 1 <= max_leaves <= 4096):
         raise ValueError(f"max_leaves must be an int in [1, 4096], got {max_leaves!r}")
     check_window(n, window)
-    try:
-        from distributed import as_completed
-    except ModuleNotFoundError as exc:
-        raise ValueError("the proved atlas needs dask.distributed: python -m pip install -e '.[atlas]'") from exc
-    own = client is None
-    cluster = None
-    if own:
-        client, cluster = _client(scheduler, workers)
     cells = [(i, j) for i in range(n) for j in range(n)]
     tag = zlib.crc32(repr((tuple(claims), tuple(window), max_leaves, chunk)).encode())
     chunks = [cells[k:k + chunk] for k in range(0, len(cells), chunk)]
-    try:
+    with cluster.client(scheduler, workers, given=client) as client:
+        from distributed import as_completed
+
         t0 = time.perf_counter()
         futures = {client.submit(evaluate_chunk, n, part, tuple(claims), window, max_leaves,
                                  retries=RETRIES, pure=False,
@@ -240,11 +225,6 @@ def compute(n, claims=tuple(CLAIMS), *, scheduler=None, workers=2, client=None, 
                 progress(f"proved atlas: chunk {done}/{len(chunks)}, ETA {(len(chunks) - done) / rate:.0f} s")
         seconds = time.perf_counter() - t0
         n_workers = len(client.scheduler_info()["workers"])
-    finally:
-        if own:
-            client.close()
-            if cluster is not None:
-                cluster.close()
     records = [r for part in results for r in part]
     return records, {"seconds": round(seconds, 1), "boxes": len(cells), "workers": n_workers,
                      "window": [str(w) for w in window], "max_leaves": max_leaves}

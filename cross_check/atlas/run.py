@@ -20,7 +20,6 @@ Progress: a line per written block with the rate and an ETA.
 """
 from __future__ import annotations
 
-import contextlib
 import math
 import re
 import sys
@@ -30,6 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from cross_check import cluster
 from cross_check.atlas import claims as C
 from cross_check.atlas import store
 
@@ -37,8 +37,6 @@ CHUNK = 16
 R_RANGE = (0.5, 100.0)
 RETRIES = 3
 GRID_MAX = 4096
-#: how long to try to reach a scheduler given by ``--scheduler``
-CONNECT_TIMEOUT = "20s"
 
 
 @dataclass(frozen=True)
@@ -119,8 +117,7 @@ def check_args(claims, grid, workers, chunk):
         raise ValueError(f"unknown atlas claim(s) {unknown}; known: {', '.join(C.CLAIMS)}")
     if not isinstance(grid, Grid):
         raise TypeError(f"grid must be a Grid (Grid.parse('64x32')), got {grid!r}")
-    if not (isinstance(workers, int) and 1 <= workers <= 256):
-        raise ValueError(f"workers must be an int in [1, 256], got {workers!r}")
+    cluster.check_workers(workers)
     if not (isinstance(chunk, int) and 1 <= chunk <= 1024):
         raise ValueError(f"chunk must be an int in [1, 1024], got {chunk!r}")
 
@@ -158,7 +155,7 @@ def compute(claims, grid, out_dir, *, scheduler=None, workers=2, chunk=None, pro
              "workers": 0, "task_seconds": 0.0, "task_cpu_seconds": 0.0}
     if not todo:
         return stats
-    with _client(client, scheduler, workers) as client:
+    with cluster.client(scheduler, workers, given=client) as client:
         path.parent.mkdir(parents=True, exist_ok=True)
         store.prepare(path, grid, claims, chunk, provenance(grid, claims, chunk, command))
         _run(client, path, grid, claims, todo, stats, say)
@@ -166,28 +163,6 @@ def compute(claims, grid, out_dir, *, scheduler=None, workers=2, chunk=None, pro
     stats["points_per_second_per_worker"] = stats["points"] / stats["task_seconds"]
     stats["points_per_cpu_second"] = stats["points"] / stats["task_cpu_seconds"]
     return stats
-
-
-@contextlib.contextmanager
-def _client(client, scheduler, workers):
-    """The given client, or one on ``scheduler``, or on a new ``LocalCluster`` (closed after)."""
-    if client is not None:
-        yield client
-        return
-    from distributed import Client, LocalCluster
-
-    if scheduler:
-        try:
-            own = Client(scheduler, timeout=CONNECT_TIMEOUT)
-        except (OSError, TimeoutError) as exc:
-            raise ValueError(f"cannot reach the dask scheduler at {scheduler!r} within "
-                             f"{CONNECT_TIMEOUT} ({type(exc).__name__}: {exc})") from None
-        with own:
-            yield own
-        return
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                      dashboard_address=":0") as cluster, Client(cluster) as own:
-        yield own
 
 
 def _run(client, path, grid, claims, todo, stats, say):

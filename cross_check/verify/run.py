@@ -23,13 +23,12 @@ and the field).
 """
 from __future__ import annotations
 
-import contextlib
 import pathlib
 import sys
 import time
 import uuid
 
-from cross_check import scenefile, scenes
+from cross_check import cluster, scenefile, scenes
 
 # ``golden``, ``verify.tasks`` and ``verify.document`` (mpmath, flint, scipy, matplotlib: about a
 # second of imports) are imported where they are used, after the scene files are read: a file with
@@ -37,28 +36,6 @@ from cross_check import scenefile, scenes
 
 ADAPTERS = ("fast", "scipy")
 RETRIES = 1
-
-
-@contextlib.contextmanager
-def _client(scheduler, workers):
-    """A ``distributed.Client`` on ``scheduler``, or on a new ``LocalCluster`` of ``workers`` processes."""
-    import logging
-
-    from distributed import Client, LocalCluster
-
-    cluster = None
-    if scheduler:
-        client = Client(scheduler)
-    else:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                               silence_logs=logging.ERROR)
-        client = Client(cluster)
-    try:
-        yield client
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
 
 
 def _timed(fn, *args):
@@ -116,12 +93,11 @@ class _Run:
 def compute(records, depth, *, scheduler=None, workers=2, progress=None, client=None) -> dict:
     """Every task of every scene; ``{scene: {what: (result, seconds) or exception}}`` and the wall time.
 
-    ``client``: an existing ``distributed.Client`` (tests); else one made by ``_client``."""
+    ``client``: an existing ``distributed.Client`` (tests); else one made by ``cluster.client``."""
     from cross_check.verify import tasks
 
     progress = progress or (lambda msg: None)
-    own = contextlib.nullcontext(client) if client is not None else _client(scheduler, workers)
-    with own as cl:
+    with cluster.client(scheduler, workers, given=client) as cl:
         run = _Run(cl, depth, progress)
         for rec in records:
             run.submit(rec["name"], "states", tasks.states, rec, depth)
@@ -205,8 +181,8 @@ def main(argv=None) -> int:
     where.add_argument("--scheduler", default=None, help="tcp://HOST:PORT of a running dask scheduler")
     parser.add_argument("--quick", action="store_true", help="a smaller run (see below), under 15 s a scene")
     args = parser.parse_args(argv)
-    if not 1 <= args.workers <= 256:
-        parser.error("--workers must be in [1, 256]")
+    if not 1 <= args.workers <= cluster.MAX_WORKERS:
+        parser.error(f"--workers must be in [1, {cluster.MAX_WORKERS}]")
     try:
         import fast
 

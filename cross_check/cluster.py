@@ -1,0 +1,54 @@
+"""The Dask cluster every distributed command runs on: one place for how a client is made.
+
+``atlas``, ``prove --atlas`` and ``verify`` take ``--workers K`` (a ``LocalCluster`` of ``K``
+single-threaded worker processes, started here and closed after) or ``--scheduler
+tcp://HOST:PORT`` (a running cluster: ``dask scheduler`` / ``dask worker`` by hand, or
+``dask-jobqueue``, see the README).  Worker processes, not threads: the engines' work holds the
+GIL in places and python-flint's precision is process-wide.  A scheduler that cannot be reached
+within ``CONNECT_TIMEOUT`` is a ``ValueError`` naming the address (the commands exit 2), never a
+hang.
+"""
+from __future__ import annotations
+
+import contextlib
+import logging
+
+#: how long to try to reach a scheduler given by ``--scheduler``
+CONNECT_TIMEOUT = "20s"
+#: the bound on ``--workers`` (a local cluster larger than this is a typo)
+MAX_WORKERS = 256
+
+
+def check_workers(workers) -> int:
+    """``workers`` as the number of local worker processes, or a ``ValueError``/``TypeError``."""
+    if isinstance(workers, bool) or not isinstance(workers, int):
+        raise TypeError(f"workers must be an int in [1, {MAX_WORKERS}], got {workers!r}")
+    if not 1 <= workers <= MAX_WORKERS:
+        raise ValueError(f"workers must be an int in [1, {MAX_WORKERS}], got {workers!r}")
+    return workers
+
+
+@contextlib.contextmanager
+def client(scheduler=None, workers=2, *, given=None):
+    """A ``distributed.Client``: ``given`` as it is (not closed here), else one on ``scheduler``,
+    else one on a new ``LocalCluster(n_workers=workers, threads_per_worker=1)``; the ones made
+    here are closed on exit."""
+    if given is not None:
+        yield given
+        return
+    try:
+        from distributed import Client, LocalCluster
+    except ModuleNotFoundError as exc:
+        raise ValueError("this command runs on dask.distributed: python -m pip install -e '.[atlas]'") from exc
+    if scheduler:
+        try:
+            own = Client(scheduler, timeout=CONNECT_TIMEOUT)
+        except (OSError, TimeoutError) as exc:
+            raise ValueError(f"cannot reach the dask scheduler at {scheduler!r} within "
+                             f"{CONNECT_TIMEOUT} ({type(exc).__name__}: {exc})") from None
+        with own:
+            yield own
+        return
+    with LocalCluster(n_workers=check_workers(workers), threads_per_worker=1, processes=True,
+                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, Client(cluster) as own:
+        yield own

@@ -1,0 +1,43 @@
+"""The one place a Dask client is made (``cross_check.cluster``): bad worker counts refused, a
+given client passed through untouched, an unreachable scheduler a ValueError naming it."""
+import socket
+
+import pytest
+
+from cross_check import cluster
+
+
+@pytest.mark.parametrize("workers, error", [(0, ValueError), (cluster.MAX_WORKERS + 1, ValueError),
+                                            (-3, ValueError), (2.0, TypeError), (True, TypeError),
+                                            ("2", TypeError)])
+def test_bad_worker_counts(workers, error):
+    with pytest.raises(error, match=r"workers must be an int in \[1, 256\]"):
+        cluster.check_workers(workers)
+
+
+def test_good_worker_counts():
+    assert [cluster.check_workers(k) for k in (1, 2, cluster.MAX_WORKERS)] == [1, 2, 256]
+
+
+def test_a_given_client_is_passed_through_and_not_closed():
+    class Given:
+        closed = False
+
+        def close(self):
+            self.closed = True
+
+    given = Given()
+    with cluster.client("tcp://127.0.0.1:1", 2, given=given) as got:
+        assert got is given
+    assert not given.closed
+
+
+def test_an_unreachable_scheduler_is_a_value_error_naming_it(monkeypatch):
+    pytest.importorskip("distributed", reason="the cluster needs the atlas extra (dask.distributed)")
+    monkeypatch.setattr(cluster, "CONNECT_TIMEOUT", "1s")
+    with socket.socket() as s:              # a port nobody listens on: bound, never listening
+        s.bind(("127.0.0.1", 0))
+        address = f"tcp://127.0.0.1:{s.getsockname()[1]}"
+        with pytest.raises(ValueError, match=f"cannot reach the dask scheduler at '{address}' within 1s"):
+            with cluster.client(address, 2):
+                pass
