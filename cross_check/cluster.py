@@ -13,6 +13,10 @@ from __future__ import annotations
 import contextlib
 import logging
 
+class ClusterError(ValueError):
+    """No cluster to run on: dask.distributed missing, or the scheduler unreachable (exit 2)."""
+
+
 #: how long to try to reach a scheduler given by ``--scheduler``
 CONNECT_TIMEOUT = "20s"
 #: the bound on ``--workers`` (a local cluster larger than this is a typo)
@@ -39,12 +43,12 @@ def client(scheduler=None, workers=2, *, given=None):
     try:
         from distributed import Client, LocalCluster
     except ModuleNotFoundError as exc:
-        raise ValueError("this command runs on dask.distributed: python -m pip install -e '.[atlas]'") from exc
+        raise ClusterError("this command runs on dask.distributed: python -m pip install -e '.[atlas]'") from exc
     if scheduler:
         try:
             own = Client(scheduler, timeout=CONNECT_TIMEOUT)
         except (OSError, TimeoutError) as exc:
-            raise ValueError(f"cannot reach the dask scheduler at {scheduler!r} within "
+            raise ClusterError(f"cannot reach the dask scheduler at {scheduler!r} within "
                              f"{CONNECT_TIMEOUT} ({type(exc).__name__}: {exc})") from None
         with own:
             yield own

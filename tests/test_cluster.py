@@ -38,6 +38,19 @@ def test_an_unreachable_scheduler_is_a_value_error_naming_it(monkeypatch):
     with socket.socket() as s:              # a port nobody listens on: bound, never listening
         s.bind(("127.0.0.1", 0))
         address = f"tcp://127.0.0.1:{s.getsockname()[1]}"
-        with pytest.raises(ValueError, match=f"cannot reach the dask scheduler at '{address}' within 1s"):
+        with pytest.raises(cluster.ClusterError, match=f"cannot reach the dask scheduler at '{address}' within 1s"):
             with cluster.client(address, 2):
                 pass
+
+
+def test_verify_on_an_unreachable_scheduler_exits_2_naming_it(monkeypatch, tmp_path, capsys):
+    pytest.importorskip("distributed", reason="the cluster needs the atlas extra (dask.distributed)")
+    from cross_check.verify import run
+
+    monkeypatch.setattr(cluster, "CONNECT_TIMEOUT", "1s")
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        address = f"tcp://127.0.0.1:{s.getsockname()[1]}"
+        assert run.main(["--scene", "F=1 f=0.3 omega=1 l=0 r=3", "--quick", "--scheduler", address,
+                         "--out", str(tmp_path)]) == 2
+    assert f"cannot reach the dask scheduler at '{address}'" in capsys.readouterr().err

@@ -205,6 +205,9 @@ def main(argv=None) -> int:
     except ModuleNotFoundError as exc:
         print(f"verify: {exc.name} is not installed: python -m pip install -e '.[atlas]'", file=sys.stderr)
         return 2
+    except cluster.ClusterError as exc:
+        print(f"verify: {exc}", file=sys.stderr)
+        return 2
     except OSError as exc:
         print(f"verify: cannot reach or start the Dask cluster: {exc}", file=sys.stderr)
         return 2
