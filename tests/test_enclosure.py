@@ -17,10 +17,9 @@ from cross_check import scenes
 from cross_check.tolerances import tol
 from reference.enclosure import enclose_map, motion
 from reference.enclosure import certify
-from reference.enclosure.balls import BallModel, from_mpf, from_number, workprec
+from reference.enclosure.balls import BallModel, from_number, workprec
+from tests.enclosure_checks import DPS, assert_map_contains_the_point_reference, inside
 
-DPS = 60
-TOL = tol("enclosure_vs_reference_dps60")
 
 #: (scene, x, v, what the itinerary holds) -- one per kind of itinerary
 STATES = [
@@ -37,25 +36,12 @@ STATES = [
 ]
 
 
-def _inside(ball, value, tolerance=TOL):
-    """``value`` (an mpf) lies in ``ball`` up to the reference's own error."""
-    point = from_mpf(value)
-    slack = tolerance.atol + tolerance.rtol * max(1, abs(float(value)))
-    return bool(abs(point - ball.mid()) <= ball.rad() + slack)
-
-
 @pytest.mark.parametrize("name, x, v, what", STATES, ids=[s[3] for s in STATES])
 def test_map_and_jacobian_contain_the_point_reference(name, x, v, what):
     sc = scenes.scene(name)
     enc = enclose_map(sc, x, v)
     assert enc.proved, enc.reason
-    xr, vr = reference.stroboscopic_map(sc, x, v, dps=DPS)
-    with workprec(enc.prec):
-        assert _inside(enc.phi[0], xr) and _inside(enc.phi[1], vr), (enc.phi, xr, vr)
-        J = reference.jacobian(sc, x, v, dps=DPS)
-        for i in range(2):
-            for j in range(2):
-                assert _inside(enc.jacobian[i][j], J[i][j]), (i, j, enc.jacobian, J)
+    assert_map_contains_the_point_reference(enc, sc, x, v)
     assert enc.rel_radius() <= tol("golden_enclosure_rel").rtol
 
 
@@ -67,7 +53,7 @@ def test_event_times_and_kinds_match_the_point_log():
     assert [e.kind for e in enc.events] == [e.kind for e in log]
     with workprec(enc.prec):
         for ball, point in zip(enc.events, log):
-            assert _inside(ball.t, point.t), (ball, point)
+            assert inside(ball.t, point.t), (ball, point)
 
 
 def test_the_chatter_accumulation_time_is_enclosed():
@@ -77,7 +63,7 @@ def test_the_chatter_accumulation_time_is_enclosed():
     ball = next(e for e in enc.events if e.kind == "chatter")
     point = next(e for e in log if e.kind == "chatter")
     with workprec(enc.prec):
-        assert _inside(ball.t, point.t)
+        assert inside(ball.t, point.t)
     # two-sided tail bounds, second order in the last speed followed: ~1e-7 here, not 40 digits
     assert float(ball.t.rad()) < 1e-6
 
@@ -88,7 +74,7 @@ def test_several_periods_are_one_walk():
     assert enc.proved, enc.reason
     xr, vr = reference.stroboscopic_map(sc, "0.3", "0.2", periods=3, dps=DPS)
     with workprec(enc.prec):
-        assert _inside(enc.phi[0], xr) and _inside(enc.phi[1], vr)
+        assert inside(enc.phi[0], xr) and inside(enc.phi[1], vr)
 
 
 def test_a_box_encloses_every_start_in_it():
@@ -102,9 +88,9 @@ def test_a_box_encloses_every_start_in_it():
             x = centre[0] + radius * (2 * rng.random() - 1)
             v = centre[1] + radius * (2 * rng.random() - 1)
             xr, vr = reference.stroboscopic_map(sc, x, v, dps=DPS)
-            assert _inside(enc.phi[0], xr) and _inside(enc.phi[1], vr)
+            assert inside(enc.phi[0], xr) and inside(enc.phi[1], vr)
             J = reference.jacobian(sc, x, v, dps=DPS)
-            assert all(_inside(enc.jacobian[i][j], J[i][j]) for i in range(2) for j in range(2))
+            assert all(inside(enc.jacobian[i][j], J[i][j]) for i in range(2) for j in range(2))
 
 
 @pytest.mark.parametrize("x, v, x_radius, v_radius, words", [
@@ -160,7 +146,7 @@ def test_krawczyk_encloses_a_closed_form_root_and_exclusion_refuses_a_root():
         with mpmath.workdps(100):
             exact = 2 * mpmath.pi - mpmath.acos(mpmath.mpf("0.3"))
         wide, tight = certify.root(rest, up, from_number(5.0), arb(1), "test")
-        assert _inside(tight, exact, tol("enclosure_vs_reference_dps60"))
+        assert inside(tight, exact, tol("enclosure_vs_reference_dps60"))
         assert float(tight.rad()) < 1e-80 and wide.contains(tight)
         assert certify.exclude(rest, up, arb(2), wide.lower(), "test") > 0
         with pytest.raises(certify.Unproved, match="slip up"):
@@ -189,11 +175,11 @@ def test_symmetric_solutions_are_proved_with_the_closed_form_multipliers(name, b
         if kind == "saddle":
             got = sorted(proof.multipliers, key=lambda b: float(b.mid()))
             want = sorted((e.real for e in expected), key=float)
-            assert all(_inside(b, w) for b, w in zip(got, want)), (got, want)
+            assert all(inside(b, w) for b, w in zip(got, want)), (got, want)
         else:
             (re, im), = proof.multipliers
             im_ref = expected[0].imag if expected[0].imag > 0 else -expected[0].imag  # exact
-            assert _inside(re, expected[0].real) and _inside(im, im_ref)
+            assert inside(re, expected[0].real) and inside(im, im_ref)
 
 
 def test_a_family_of_fixed_points_is_refused_with_the_reason():
@@ -213,16 +199,14 @@ from tests.strategies import chattering_orbits, reference_cases  # noqa: E402
 @settings(max_examples=25)
 @given(reference_cases())
 def test_property_a_proved_ball_contains_the_point_reference(case):
-    """On any scene and exact state the proof either holds -- and then contains the point
-    reference at dps 60, map and Jacobian -- or says why not."""
+    """On any scene and exact state the proof either holds -- and then its map contains the
+    point reference at dps 60 -- or says why not."""
     sc, x, v = case
     enc = enclose_map(sc, x, v, max_prec=640)
     if not enc.proved:
         assert len(enc.reason) > 20
         return
-    xr, vr = reference.stroboscopic_map(sc, x, v, dps=DPS)
-    with workprec(enc.prec):
-        assert _inside(enc.phi[0], xr) and _inside(enc.phi[1], vr), (enc.phi, xr, vr)
+    assert_map_contains_the_point_reference(enc, sc, x, v, jacobian=False)
 
 
 @settings(max_examples=15)
@@ -239,7 +223,7 @@ def test_property_chatter_accumulates_inside_its_bound(orbit):
     assert len(ball) == len(point) == 1
     slack = tol("ref_chatter_time_dps50")
     with workprec(enc.prec):
-        assert _inside(ball[0].t, point[0].t, slack)
+        assert inside(ball[0].t, point[0].t, slack)
 
 
 def test_a_written_ball_contains_the_proved_ball():

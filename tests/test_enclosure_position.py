@@ -13,11 +13,10 @@ import pytest
 import reference
 from cross_check.tolerances import tol
 from reference.enclosure import enclose_map
-from reference.enclosure.balls import from_mpf, from_number, workprec
+from reference.enclosure.balls import from_number, workprec
 from reference.scene import Scene
+from tests.enclosure_checks import DPS, assert_map_contains_the_point_reference, inside
 
-DPS = 60
-TOL = tol("enclosure_vs_reference_dps60")
 XPOT = Scene(F=1, f="0.1", omega="2*pi", l=-1, r=1, wavenumber="pi/2")
 OTHER = Scene(F=2, f="0.3", omega=3, l=-2, r="1.5", wavenumber="0.9", damping="0.15")
 OTHER_UNDAMPED = Scene(F=2, f="0.3", omega=3, l=-2, r="1.5", wavenumber="0.9")
@@ -33,11 +32,6 @@ STATES = [
 ]
 
 
-def _inside(ball, value):
-    slack = TOL.atol + TOL.rtol * max(1, abs(float(value)))
-    return bool(abs(from_mpf(value) - ball.mid()) <= ball.rad() + slack)
-
-
 @pytest.mark.parametrize("scene, x, v, kinds", STATES)
 def test_map_and_jacobian_contain_the_point_reference(scene, x, v, kinds):
     enc = enclose_map(scene, x, v)
@@ -51,12 +45,9 @@ def test_map_and_jacobian_contain_the_point_reference(scene, x, v, kinds):
     else:
         assert got == kinds == [e.kind for e in log]
         pairs = list(zip(enc.events, log))
-    xr, vr = reference.stroboscopic_map(scene, x, v, dps=DPS)
-    J = reference.jacobian(scene, x, v, dps=DPS)
+    assert_map_contains_the_point_reference(enc, scene, x, v)
     with workprec(enc.prec):
-        assert _inside(enc.phi[0], xr) and _inside(enc.phi[1], vr), (enc.phi, xr, vr)
-        assert all(_inside(enc.jacobian[i][j], J[i][j]) for i in range(2) for j in range(2))
-        assert all(b.kind == p.kind and _inside(b.t, p.t) for b, p in pairs)
+        assert all(b.kind == p.kind and inside(b.t, p.t) for b, p in pairs)
     assert enc.rel_radius() <= tol("golden_enclosure_rel").rtol
 
 
@@ -98,7 +89,7 @@ def test_a_near_graze_is_proved_only_on_the_right_side():
     if enc.proved:                      # the stop, proved inside the gap, where it is
         assert [e.kind for e in enc.events] == ["stick"]
         with workprec(enc.prec):
-            assert enc.events[0].x < 1 and _inside(enc.events[0].x, log[0].x)
+            assert enc.events[0].x < 1 and inside(enc.events[0].x, log[0].x)
     else:
         assert "grazing" in enc.reason, enc.reason
 
@@ -144,9 +135,6 @@ def test_property_a_position_forced_proof_contains_the_point_reference(case):
     if not enc.proved:
         assert len(enc.reason) > 20
         return
-    xr, vr = reference.stroboscopic_map(sc, x, v, dps=DPS)
-    with workprec(enc.prec):
-        assert _inside(enc.phi[0], xr) and _inside(enc.phi[1], vr), (enc.phi, xr, vr)
-        if enc.jacobian is not None and not any(e.kind in ("stick", "contact", "chatter") for e in enc.events):
-            J = reference.jacobian(sc, x, v, dps=DPS)
-            assert all(_inside(enc.jacobian[i][j], J[i][j]) for i in range(2) for j in range(2))
+    kinds = {e.kind for e in enc.events}
+    assert_map_contains_the_point_reference(enc, sc, x, v, jacobian=enc.jacobian is not None
+                                            and not kinds & {"stick", "contact", "chatter"})

@@ -19,17 +19,11 @@ from reference.enclosure.lohner import ValidatedFlight, contracts, picard_box
 from reference.enclosure.series import Field
 from reference.scene import Scene
 from reference.taylor import TaylorFlight
+from tests.enclosure_checks import inside
 
 XPOT = Scene(F=1, f="0.1", omega="2*pi", l=-1, r=1, wavenumber="pi/2")
 #: a scene of the family that is not the paper's: other k, F, f, w, walls, with damping
 OTHER = Scene(F=2, f="0.3", omega=3, l=-2, r="1.5", wavenumber="0.9", damping="0.15")
-TOL = tol("enclosure_vs_reference_dps60")
-
-
-def _inside(ball, value, slack=TOL):
-    """``value`` (mpf) in ``ball`` up to the point reference's own error ``slack``."""
-    extra = slack.atol + slack.rtol * max(1, abs(float(value)))
-    return bool(abs(from_mpf(value) - ball.mid()) <= ball.rad() + extra)
 
 
 def _point(scene, t0, x0, v0, s, u, dps, periods=False):
@@ -60,8 +54,8 @@ def test_a_period_of_flight_contains_the_point_taylor_reference(scene, x0, v0, s
             (xr, vr), Jr = _point(scene, 0, x0, v0, s, frac, 60, periods=True)
             X, V = fl.state(u)
             D = fl.derivative(u)
-            assert _inside(X, xr) and _inside(V, vr), (prec, frac, X, xr, V, vr)
-            assert all(_inside(D[i][j], Jr[i, j]) for i in range(2) for j in range(2)), (D, Jr)
+            assert inside(X, xr) and inside(V, vr), (prec, frac, X, xr, V, vr)
+            assert all(inside(D[i][j], Jr[i, j]) for i in range(2) for j in range(2)), (D, Jr)
             for b in (X, V):
                 assert float(b.rad()) <= tol("validated_flight_radius").rtol * max(1, abs(float(b.mid())))
         assert len(fl.steps) >= 8                                  # a chain of steps
@@ -80,7 +74,7 @@ def test_a_flight_of_another_scene_contains_mpmaths_odefun():
     with workprec(320):
         fl = ValidatedFlight(BallModel(OTHER), from_number("0.2"), from_number("0.1"), from_number("1.3"), 1)
         for got, value in zip(fl.state(from_number("1.5")), want):
-            assert _inside(got, value, tol("taylor_odefun_dps30"))
+            assert inside(got, value, tol("taylor_odefun_dps30"))
 
 
 def test_a_flight_from_a_ball_of_start_times_contains_both_ends():
@@ -94,8 +88,8 @@ def test_a_flight_from_a_ball_of_start_times_contains_both_ends():
         D = fl.derivative(arb("0.5"))
         for t0 in ("0.29999999999999999999", "0.30000000000000000001"):
             (xr, vr), Jr = _point(XPOT, t0, "0.2", "1.1", 1, "0.5", 60)
-            assert _inside(X, xr) and _inside(V, vr)
-            assert all(_inside(D[i][j], Jr[i, j]) for i in range(2) for j in range(2))
+            assert inside(X, xr) and inside(V, vr)
+            assert all(inside(D[i][j], Jr[i, j]) for i in range(2) for j in range(2))
         assert 1e-21 < float(X.rad()) < 1e-18          # the start's spread, not more
 
 
@@ -150,8 +144,8 @@ def test_a_low_order_flight_carries_its_remainder():
         D = fl.derivative(u)
     (xr, vr), Jr = _point(XPOT, 0, "0.3", "1.5", 1, "0.7", 40)
     with workprec(320):
-        assert _inside(X, xr) and _inside(V, vr)
-        assert all(_inside(D[i][j], Jr[i, j]) for i in range(2) for j in range(2))
+        assert inside(X, xr) and inside(V, vr)
+        assert all(inside(D[i][j], Jr[i, j]) for i in range(2) for j in range(2))
     assert 1e-20 < float(X.rad()) < 1e-8 and 1e-20 < float(D[0][0].rad()) < 1e-4   # D: order 4
 
 
