@@ -38,12 +38,12 @@ import json
 import math
 import pathlib
 import sys
-import time
 
 import mpmath
 
 from cross_check.agreement import compare
 from cross_check import scenefile, scenes
+from cross_check.progress import Progress
 from cross_check.tolerances import tol
 from reference.enclosure import enclose_map
 from reference.enclosure.balls import decimal_ball, radius_text, workprec
@@ -383,13 +383,12 @@ def main(argv=None) -> int:
     if not compare.available("reference"):
         print("golden: the reference integrator is not available (reference.stroboscopic_map)", file=sys.stderr)
         return 2
-    t0 = time.perf_counter()
+    progress = Progress()
     try:
-        paths = generate(names, out, args.n_sample,
-                         progress=lambda msg: print(f"[{time.perf_counter() - t0:6.1f}s] {msg}", file=sys.stderr))
+        paths = generate(names, out, args.n_sample, progress=progress)
     except GoldenError as exc:
         print(f"golden: self-agreement failed, nothing written: {exc}", file=sys.stderr)
         return 1
     size = sum(p.stat().st_size for p in paths)
-    print(f"wrote {len(paths)} files ({size / 1024:.0f} KiB) to {out} in {time.perf_counter() - t0:.1f}s")
+    print(f"wrote {len(paths)} files ({size / 1024:.0f} KiB) to {out} in {progress.elapsed:.1f}s")
     return 0

@@ -48,6 +48,7 @@ from flint import arb
 
 from cross_check import cluster
 from cross_check.atlas import claims as C
+from cross_check.progress import Progress
 from reference import paper as P
 from reference.enclosure.balls import decimal_ball, from_fraction, radius_text, workprec
 from reference.enclosure.branches import symmetric_cover
@@ -366,11 +367,9 @@ def main(argv=None) -> int:
     except ValueError:
         print(f"prove --atlas: --window needs four decimal numbers, got {args.window}", file=sys.stderr)
         return 2
-    t0 = time.perf_counter()
     try:
         records, stats = compute(args.grid, tuple(args.claim), scheduler=args.scheduler, workers=args.workers,
-                                 window=window, max_leaves=args.max_leaves, progress=lambda m: print(f"[{time.perf_counter() - t0:6.1f}s] {m}",
-                                                          file=sys.stderr, flush=True))
+                                 window=window, max_leaves=args.max_leaves, progress=Progress())
     except ValueError as exc:
         print(f"prove --atlas: {exc}", file=sys.stderr)
         return 2

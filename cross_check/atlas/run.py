@@ -32,6 +32,7 @@ import numpy as np
 from cross_check import cluster
 from cross_check.atlas import claims as C
 from cross_check.atlas import store
+from cross_check.progress import Progress
 
 CHUNK = 16
 R_RANGE = (0.5, 100.0)
@@ -251,8 +252,7 @@ def main(argv=None) -> int:
     parser.add_argument("--workers", type=int, default=2, help="local worker processes (default 2)")
     parser.add_argument("--out", default="atlas", help="output directory (default: atlas/)")
     args = parser.parse_args(argv)
-    t0 = time.perf_counter()
-    log = lambda m: print(f"[{time.perf_counter() - t0:6.1f}s] {m}", file=sys.stderr, flush=True)  # noqa: E731
+    log = Progress()
     try:
         grid = Grid.parse(args.grid)
         stats = compute(args.claim, grid, args.out, scheduler=args.scheduler, workers=args.workers,

@@ -24,11 +24,11 @@ from __future__ import annotations
 import dataclasses
 import pathlib
 import sys
-import time
 from dataclasses import dataclass
 
 from cross_check import scenefile, scenes
 from cross_check.agreement import baseline, compare
+from cross_check.progress import Progress
 from cross_check.report import plots, precision, sections
 from cross_check.report.sections import REF_DPS, TRUTH_DPS
 from cross_check.tolerances import tol
@@ -55,25 +55,6 @@ _WP_SCENES = ("fig:narrow-with-friction", "fig:many:2pi/f=0.1", "fig:resonance/R
 FULL = Plan(tuple(scenes.SCENES), 12, 4, scenes.QUICK_SCENES, _WP_SCENES, 4, baseline.RTOLS, WP_DPS, (1, 10))
 QUICK = Plan(_WP_SCENES, 4, 1, ("fig:narrow-with-friction",), ("fig:narrow-with-friction",), 2,
              (1e-3, 1e-6, 1e-9, 1e-12), (16, 30, 50), (1, 10))
-
-
-class Progress:
-    """Timestamped progress lines on stderr; ``lap()`` is the time since the last lap."""
-
-    def __init__(self):
-        self.t0 = self.t_lap = time.perf_counter()
-
-    def __call__(self, msg: str):
-        print(f"[{time.perf_counter() - self.t0:6.1f}s] {msg}", file=sys.stderr, flush=True)
-
-    @property
-    def elapsed(self) -> float:
-        return time.perf_counter() - self.t0
-
-    def lap(self) -> float:
-        now = time.perf_counter()
-        out, self.t_lap = now - self.t_lap, now
-        return out
 
 
 def _guarded(progress, errors: list, what: str, fn, *args):

@@ -43,6 +43,7 @@ import numpy as np
 from cross_check import golden, scenefile
 from cross_check import scenes as scene_table
 from cross_check.agreement import compare
+from cross_check.progress import Progress
 from cross_check.score import adapters, isolate, runner
 from cross_check.score.golden import easiest, golden_scene, scene_cases, timeout_message, warmup_case
 from cross_check.score.protocol import BadAdapter, load_adapter
@@ -280,13 +281,7 @@ def main(argv=None) -> int:
     [--golden-dir DIR] [--periods 1 [10]] [--out DIR] [--case-timeout S] [--first-call-timeout S] [--in-process] [--debug]``."""
     args = build_parser().parse_args(argv)
     out, last = pathlib.Path(args.out), []
-    t0 = time.perf_counter()
-
-    def say(message):
-        try:
-            print(f"[{time.perf_counter() - t0:6.1f}s] {message}", file=sys.stderr, flush=True)
-        except OSError:               # stderr closed (a pipe into head): the run goes on, unheard
-            pass
+    say = Progress()
 
     def checkpoint(card):
         last[:] = [card]

@@ -17,9 +17,8 @@ from __future__ import annotations
 import argparse
 import json
 import pathlib
-import sys
-import time
 
+from cross_check.progress import Progress
 from cross_check.sensitivity import checks, faults
 from cross_check.score.adapters import FAST
 
@@ -78,8 +77,7 @@ def main(argv=None) -> int:
                     "fault each) and on the control; write which check caught each fault and how fast.")
     parser.add_argument("--out", default="sensitivity", help="output directory (default: sensitivity/)")
     args = parser.parse_args(argv)
-    t0 = time.perf_counter()
-    tab = table(lambda m: print(f"[{time.perf_counter() - t0:6.1f}s] {m}", file=sys.stderr, flush=True))
+    tab = table(Progress())
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "sensitivity.md").write_text(markdown(tab))

@@ -29,6 +29,7 @@ import time
 import uuid
 
 from cross_check import cluster, scenefile, scenes
+from cross_check.progress import Progress
 
 # ``golden``, ``verify.tasks`` and ``verify.document`` (mpmath, flint, scipy, matplotlib: about a
 # second of imports) are imported where they are used, after the scene files are read: a file with
@@ -198,8 +199,7 @@ def main(argv=None) -> int:
 
     records = [golden.scene_record(sc) for sc in found]
     depth = tasks.QUICK if args.quick else tasks.FULL
-    t0 = time.perf_counter()
-    progress = lambda m: print(f"[{time.perf_counter() - t0:6.1f}s] {m}", file=sys.stderr, flush=True)  # noqa: E731
+    progress = Progress()
     try:
         results = compute(records, depth, scheduler=args.scheduler, workers=args.workers, progress=progress)
     except ModuleNotFoundError as exc:

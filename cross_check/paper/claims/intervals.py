@@ -35,6 +35,7 @@ from fractions import Fraction
 
 import mpmath
 
+from cross_check.progress import Progress
 from reference.enclosure.balls import decimal_ball, radius_text, workprec
 from reference.enclosure.branches import common_ticks, symmetric_cover
 from reference.enclosure.continuation import prove_interval
@@ -261,10 +262,9 @@ def main(argv=None) -> int:
                "about ten minutes on one core.")
     ap.add_argument("--out", default=str(PATH), help=f"where to write (default: {PATH.relative_to(PATH.parents[2])})")
     args = ap.parse_args(argv)
-    t0 = time.perf_counter()
-    statements = compute(progress=lambda m: print(f"[{time.perf_counter() - t0:6.1f}s] {m}",
-                                                  file=sys.stderr, flush=True))
-    data = {"provenance": provenance(round(time.perf_counter() - t0, 1)), "statements": statements}
+    progress = Progress()
+    statements = compute(progress=progress)
+    data = {"provenance": provenance(round(progress.elapsed, 1)), "statements": statements}
     pathlib.Path(args.out).write_text(json.dumps(data, indent=1) + "\n")
     bad = problems(statements)
     for line in bad:
