@@ -20,13 +20,14 @@ exact nearly orthogonal matrix, ``R`` balls) to ``t_j + h``:
    iterating and widening and verified by a certain comparison: then every solution from
    ``Y`` exists on ``[0, h]`` and stays in ``N`` (the Picard operator maps the continuous
    paths in ``B`` into those in ``N``; Lipschitz ``f``: one solution);
-2. *Taylor series* of order ``p`` at the centre ``m`` (``series``), and the variational
-   coefficients ``V_n`` over ``Y``, so that for every start ``m + A r``
+2. *Taylor series* of order ``p`` at the centre ``m`` (``series``), so that for every start
+   ``m + A r``
 
-       z(t_j + tau) in sum_n c_n(m) tau^n + (sum_n V_n(Y) tau^n) A r + rem tau^(p+1),
+       z(t_j + tau) in sum_n c_n(m) tau^n + rem tau^(p+1) + V(tau) A r,
 
-   the middle term the mean value theorem on the polynomial, ``rem`` the Lagrange remainder:
-   the coefficient of order ``p + 1`` evaluated over ``B`` and the times of the step;
+   ``rem`` the Lagrange remainder (the coefficient of order ``p + 1`` evaluated over ``B`` and
+   the times of the step) and the last term the mean value theorem on the flow, ``V(tau)`` the
+   enclosure of its derivative over every start of ``Y`` (step 3);
 3. *the flow derivative* of the step, ``V(tau)``, is the variational series of order
    ``q = p/2`` over ``Y`` plus its Lagrange remainder ``G_{q+1}(B) W tau^(q+1)``: ``G_{q+1}``
    the variational coefficient with identity start (``V^{(q+1)} = (q+1)! G_{q+1}(y) V``), ``W``
@@ -38,7 +39,7 @@ exact nearly orthogonal matrix, ``R`` balls) to ``t_j + h``:
    shortened until the Picard box exists, the state's remainder is below ``2^-tol_bits``
    (default ``2^-prec``) of the state's scale and the derivative's below the square root of
    that; the order ``p`` is :func:`taylor_order`;
-5. *the Lohner frame* against the wrapping effect: ``M = (sum V_n(Y) h^n) A``, the new
+5. *the Lohner frame* against the wrapping effect: ``M = V(h) A``, the new
    ``A`` the QR frame of ``mid M`` (its dominant column, weighted by ``R``, first; exact
    entries), ``R <- (A^-1 M) R + A^-1 (c(h) + rem - m)``, ``m`` the new midpoint.  An axis
    box would rotate with the flow and wrap at every step; the frame turns with it.
@@ -311,12 +312,15 @@ class ValidatedFlight:
 
     def _at(self, step, tau):
         """``(centre, M, V)`` at ``tau`` in ``step``: the centre's polynomial plus remainder
-        (balls), ``M = (sum V_n(Y) tau^n) A`` and the step's flow derivative at ``tau``."""
+        (balls), the step's flow derivative ``V`` at ``tau`` over every start of ``Y`` (the
+        variational series of order ``q`` plus its Lagrange remainder) and ``M = V A``: by the
+        mean value theorem on the flow itself, ``z(tau; m + A r)`` lies in ``centre + M r``.
+        (The variational series alone, without its remainder, would leave out the orders
+        ``q + 1 ... p`` of the polynomial's derivative.)"""
         tp, tq = tau ** (self.p + 1), tau ** (self.q + 1)
         centre = [step.cx(tau) + step.rem[0] * tp, step.cv(tau) + step.rem[1] * tp]
-        Jt = [[step.J[i][j](tau) for j in range(2)] for i in range(2)]
-        V = [[Jt[i][j] + step.E[i][j] * tq for j in range(2)] for i in range(2)]
-        return centre, mat_mul(Jt, step.A), V
+        V = [[step.J[i][j](tau) + step.E[i][j] * tq for j in range(2)] for i in range(2)]
+        return centre, mat_mul(V, step.A), V
 
     # -- queries -------------------------------------------------------------------------
     def _pieces(self, u):
