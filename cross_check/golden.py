@@ -5,7 +5,7 @@ writes one JSON file per scene (default ``cross_check/data/golden/``, shipped as
 ``files()`` reads it with ``importlib.resources``, so a ``pip install`` of the suite has it too;
 user scenes, from ``cross_check.scenefile``, go to ``golden/`` unless ``--out`` says otherwise).
 A golden directory is self-describing: each file records its scene's exact parameters, so
-``names_in``, ``load`` and ``register_dir`` read any directory (``--golden-dir`` of ``score``,
+``names_in``, ``load`` and ``scene_of`` read any directory (``--golden-dir`` of ``score``,
 ``prove`` and the pytest plugin; ``verify`` writes one) the way they read the shipped one.  Each file holds, for every state of interest
 (``cross_check.scenes.states_of_interest``: a seeded sample and the constructed hard cases):
 
@@ -339,21 +339,6 @@ def names_in(directory=None) -> list[str]:
 def scene_of(data: dict, where: str = "golden file"):
     """The scene a golden file was written for, from its exact record (``scenefile.from_record``)."""
     return scenefile.from_record(data["scene"], where)
-
-
-def register_dir(directory) -> list[str]:
-    """Register every scene of a golden directory that is not a built-in (``scenes.register``)
-    and return all its scene names; a built-in name must carry the built-in's parameters."""
-    names = names_in(directory)
-    for name in names:
-        data = load(name, directory)
-        sc = scene_of(data, f"{files(directory)}/{scenes.slug(name)}.json")
-        if name in scenes.SCENES:
-            if scene_record(scenes.SCENES[name]) != data["scene"]:
-                raise ValueError(f"golden file of {name!r} in {directory}: parameters differ from the built-in scene's")
-            continue
-        scenes.register(sc)
-    return names
 
 
 def main(argv=None) -> int:

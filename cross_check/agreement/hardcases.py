@@ -254,11 +254,6 @@ NAMES = ("grazing", "crossing_pair", "turn_at_wall", "impact_at_T", "stick_slip_
          "at_rest", "stopping", "chatter")
 
 
-def hard_cases(scene: Scene) -> list[HardCase]:
-    """All hard cases constructible for ``scene`` (``construct``'s cases)."""
-    return construct(scene)[0]
-
-
 def construct(scene: Scene) -> tuple[list[HardCase], dict[str, str]]:
     """The hard cases of ``scene`` and ``{name: reason}`` for each of ``NAMES`` it does not admit."""
     if scene.has("position_forcing"):

@@ -259,7 +259,7 @@ def provenance(n, stats):
             "scene": "F = 1, f = f/F, omega = 1, l = 0, r = w^2 R/F (dimensionless)",
             "f_over_F": "edges f0 + (f1 - f0) j/N",
             "w2R_over_F": "edges log-spaced over [R0, R1], inner ones rounded to multiples of 2^-10",
-            "max_leaves": MAX_LEAVES, "boundary_leaves": BOUNDARY_LEAVES, "stats": stats,
+            "max_leaves": stats["max_leaves"], "boundary_leaves": BOUNDARY_LEAVES, "stats": stats,
             "versions": {"python": platform.python_version(), "mpmath": mpmath.__version__,
                          "python-flint": flint.__version__, "dask": dask.__version__,
                          "distributed": distributed.__version__}}
@@ -269,7 +269,6 @@ def write(out_dir, records, n, stats, window=PLANE):
     """``proved_atlas.json``, ``proved_atlas_meta.json`` and one PNG per claim; the summary."""
     out = pathlib.Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    stats = {**stats, "window": [str(w) for w in window]}
     (out / "proved_atlas.json").write_text(json.dumps(records, indent=0) + "\n")
     summ = summary(records)
     meta = {"provenance": provenance(n, stats), "summary": summ}

@@ -54,8 +54,8 @@ def _result(value):
 class _Run:
     """The futures of one verify run, keyed by ``(scene, what)``, and their progress."""
 
-    def __init__(self, client, depth, progress):
-        self.client, self.depth, self.progress = client, depth, progress
+    def __init__(self, client, progress):
+        self.client, self.progress = client, progress
         self.tag = uuid.uuid4().hex[:8]
         self.futures = {}
         self.t0 = time.perf_counter()
@@ -99,7 +99,7 @@ def compute(records, depth, *, scheduler=None, workers=2, progress=None, client=
 
     progress = progress or (lambda msg: None)
     with cluster.client(scheduler, workers, given=client) as cl:
-        run = _Run(cl, depth, progress)
+        run = _Run(cl, progress)
         for rec in records:
             run.submit(rec["name"], "states", tasks.states, rec, depth)
         states = run.gather()
@@ -202,9 +202,6 @@ def main(argv=None) -> int:
     progress = Progress()
     try:
         results = compute(records, depth, scheduler=args.scheduler, workers=args.workers, progress=progress)
-    except ModuleNotFoundError as exc:
-        print(f"verify: {exc.name} is not installed: python -m pip install -e '.[atlas]'", file=sys.stderr)
-        return 2
     except cluster.ClusterError as exc:
         print(f"verify: {exc}", file=sys.stderr)
         return 2
