@@ -11,6 +11,7 @@ everywhere, so a plain ``pytest`` draws the same examples on every run and machi
 """
 import os
 
+import pytest
 from hypothesis import HealthCheck, settings
 
 settings.register_profile("dev", max_examples=20, deadline=None)
@@ -52,3 +53,14 @@ def pytest_collection_modifyitems(config, items):
         if item.path.name in SENSITIVE:
             item.add_marker(pytest.mark.sensitive)
     items.sort(key=rank)          # stable: the order inside a module is kept
+
+
+@pytest.fixture(scope="module")
+def client():
+    """A local Dask cluster of 2 single-threaded worker processes for one test module, made the
+    way the commands make it (``cross_check.cluster.client``); closed after the module."""
+    pytest.importorskip("distributed", reason="the Dask tests need dask.distributed (the atlas extra)")
+    from cross_check import cluster
+
+    with cluster.client(workers=2) as c:
+        yield c

@@ -25,13 +25,6 @@ ALL = list(claims.CLAIMS)
 
 
 @pytest.fixture(scope="module")
-def client():
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                  dashboard_address=":0") as cluster, distributed.Client(cluster) as c:
-        yield c
-
-
-@pytest.fixture(scope="module")
 def atlas_dir(client, tmp_path_factory):
     out = tmp_path_factory.mktemp("atlas")
     stats = compute(ALL, Grid(N), out, client=client, chunk=4)

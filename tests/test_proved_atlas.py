@@ -22,13 +22,6 @@ KEYS = {"claim", "f_over_F", "w2R_over_F", "status", "reason", "phase", "x", "v"
 WINDOW = (Fraction("0.1"), Fraction("0.14"), Fraction(60), Fraction(80))
 
 
-@pytest.fixture(scope="module")
-def client():
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=":0") as cluster, distributed.Client(cluster) as c:
-        yield c
-
-
 def test_grid_4_over_the_whole_plane(client, tmp_path, capsys):
     assert cli.main(["prove", "--atlas", "--grid", "4", "--max-leaves", "1", "--scheduler",
                      client.scheduler.address, "--out", str(tmp_path)]) == 0

@@ -28,12 +28,10 @@ FRICTIONLESS = "name=frictionless F=1 f=0 omega=2*pi l=-1 r=1"
 
 
 @pytest.fixture(scope="module")
-def run(tmp_path_factory):
+def run(client, tmp_path_factory):
     out = tmp_path_factory.mktemp("verify")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=":0") as cluster:
-        status = cli.main(["verify", str(EXAMPLE), "--scene", STUCK, "--scene", FRICTIONLESS, "--quick",
-                           "--out", str(out), "--scheduler", cluster.scheduler_address])
+    status = cli.main(["verify", str(EXAMPLE), "--scene", STUCK, "--scene", FRICTIONLESS, "--quick",
+                       "--out", str(out), "--scheduler", client.scheduler.address])
     return status, out
 
 
