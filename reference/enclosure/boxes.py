@@ -23,16 +23,14 @@ import time
 from dataclasses import dataclass
 from fractions import Fraction
 
-import mpmath
 from flint import arb
 
-import reference
 from reference.api import check_count
-from reference.enclosure.balls import from_mpf, from_number, workprec
+from reference.enclosure.balls import from_number, workprec
 from reference.enclosure.maps import enclose_map
 from reference.enclosure.kinds import OrbitProof, classify
 from reference.enclosure.params import ParamBox
-from reference.enclosure.shooting import MORE_PIECES, PIECES, SECTION_GRID, Shooting
+from reference.enclosure.shooting import MORE_PIECES, PIECES, Shooting, section
 
 #: Newton steps on the midpoints before the proof (each one enclosure of ``P`` at a point).
 NEWTON_STEPS = 30
@@ -58,35 +56,6 @@ class BoxOrbitProof(OrbitProof):
     shooting_radii: tuple = ()
     unique_in_point: bool = False
     split: object = None
-
-
-def to_mpf(value):
-    """A number or ball's midpoint as an mpf (at mpmath's current precision)."""
-    ball = from_number(value)
-    man, exp = ball.mid().man_exp()
-    return mpmath.mpf((int(man) < 0, abs(int(man)), int(exp), abs(int(man)).bit_length()))
-
-
-def section(scene, x, v, periods, prec):
-    """``(phase, x, v)``: the section ``t = phase T`` (a multiple of ``T / SECTION_GRID``) in
-    the middle of the longest quiet stretch of the orbit through ``(x, v)`` at ``t = 0`` over
-    ``periods`` periods, and the state there.  The stretch may lie in a later period ``j``: the
-    state is then the orbit's at ``(j + phase) T``, i.e. the state at ``phase T`` of the orbit
-    shifted by ``j T`` (the forcing has period ``T``), whose events are away from the section."""
-    dps = int(prec / 3.33) + 12
-    with mpmath.workdps(dps):
-        T = 2 * mpmath.pi / scene.mpf("omega")
-        x = min(max(to_mpf(x), scene.mpf("l")), scene.mpf("r"))
-        v = to_mpf(v)
-        log = reference.trajectory(scene, x, v, periods * T, dps=dps)
-        times = [mpmath.mpf(0)] + [e.t for e in log] + [periods * T]
-        _, mid = max((b - a, (a + b) / 2) for a, b in zip(times, times[1:]))
-        ticks = int(mpmath.floor(SECTION_GRID * mid / T))
-        phase = Fraction(ticks % SECTION_GRID, SECTION_GRID)
-        if ticks == 0:
-            return phase, from_mpf(x), from_mpf(v)
-        state = reference.trajectory(scene, x, v, T * ticks / SECTION_GRID, dps=dps)
-        return phase, from_mpf(state.x_end), from_mpf(state.v_end)
 
 
 def polish(scene, z, periods, phase, prec):

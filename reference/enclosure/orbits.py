@@ -25,12 +25,11 @@ from __future__ import annotations
 import time
 from fractions import Fraction
 
-import mpmath
 from flint import arb
 
-import reference
 from reference.api import check_count
-from reference.enclosure.balls import DEFAULT_PREC, from_mpf, from_number, to_mpf, workprec
+from reference.enclosure.balls import DEFAULT_PREC, from_number, workprec
+from reference.enclosure.shooting import section
 from reference.enclosure.balls import span as span_ball
 from reference.enclosure.kinds import OrbitProof, classify
 from reference.enclosure.maps import enclose_map
@@ -76,25 +75,6 @@ def _newton(scene, z, periods, phase, prec):
     return z, enc
 
 
-def _auto_phase(scene, x, v, periods, prec):
-    """The section in the middle of the longest quiet stretch of the orbit (a multiple of
-    ``T/64``), and the state there: away from every event, so that a box has one itinerary."""
-    dps = int(prec / 3.33) + 12
-    x, v = to_mpf(from_number(x).mid()), to_mpf(from_number(v).mid())
-    with mpmath.workdps(dps):
-        T = 2 * mpmath.pi / scene.mpf("omega")
-        x = min(max(x, scene.mpf("l")), scene.mpf("r"))      # a state on a wall, rounded out
-        log = reference.trajectory(scene, x, v, periods * T, dps=dps)
-        times = [mpmath.mpf(0)] + [e.t for e in log] + [periods * T]
-        gap, mid = max((b - a, (a + b) / 2) for a, b in zip(times, times[1:]))
-        phase = Fraction(int(mpmath.floor(64 * (mid / T))) % 64, 64)
-        if phase == 0:
-            return 0, x, v
-        state = reference.trajectory(scene, x, v, T * phase.numerator / phase.denominator,
-                                     dps=dps)
-        return phase, from_mpf(state.x_end), from_mpf(state.v_end)
-
-
 def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
                    prec=DEFAULT_PREC) -> OrbitProof:
     """Prove a fixed point of ``Phi^periods`` near ``(x, v)`` (numbers as in ``enclose_map``).
@@ -123,7 +103,7 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
     start = time.perf_counter()
     with workprec(prec):
         if phase is None:
-            phase, x, v = _auto_phase(scene, x, v, periods, prec)
+            phase, x, v = section(scene, x, v, periods, prec)
         z, enc = _newton(scene, [from_number(x).mid(), from_number(v).mid()], periods, phase, prec)
         r = arb(2) ** (-(prec // 3)) if radius is None else from_number(radius)
         proof = _krawczyk(scene, z, r, periods, phase, prec, enc)

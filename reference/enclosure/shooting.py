@@ -31,9 +31,11 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+import mpmath
 from flint import arb, arb_mat
 
-from reference.enclosure.balls import BallModel, parameter
+import reference
+from reference.enclosure.balls import BallModel, from_mpf, from_number, parameter, to_mpf
 from reference.enclosure.maps import enclose_map
 from reference.enclosure.params import PARAMS
 from reference.enclosure.sensitivity import PARAMETERS
@@ -200,3 +202,27 @@ class Shooting:
                     return False
                 W = enc.phi
         return True
+
+
+def section(scene, x, v, periods, prec):
+    """``(phase, x, v)``: the section ``t = phase T`` (a multiple of ``T / SECTION_GRID``) in
+    the middle of the longest quiet stretch of the orbit through ``(x, v)`` at ``t = 0`` over
+    ``periods`` periods, and the state there.  The stretch may lie in a later period ``j``: the
+    state is then the orbit's at ``(j + phase) T``, i.e. the state at ``phase T`` of the orbit
+    shifted by ``j T`` (the forcing has period ``T``), whose events are away from the section.
+    One choice for the point proofs (``orbits.prove_periodic``) and the box proofs (``boxes``):
+    a box there has one itinerary."""
+    dps = int(prec / 3.33) + 12
+    with mpmath.workdps(dps):
+        T = 2 * mpmath.pi / scene.mpf("omega")
+        x = min(max(to_mpf(from_number(x)), scene.mpf("l")), scene.mpf("r"))    # a state on a wall, rounded out
+        v = to_mpf(from_number(v))
+        log = reference.trajectory(scene, x, v, periods * T, dps=dps)
+        times = [mpmath.mpf(0)] + [e.t for e in log] + [periods * T]
+        _, mid = max((b - a, (a + b) / 2) for a, b in zip(times, times[1:]))
+        ticks = int(mpmath.floor(SECTION_GRID * mid / T))
+        phase = Fraction(ticks % SECTION_GRID, SECTION_GRID)
+        if ticks == 0:
+            return phase, from_mpf(x), from_mpf(v)
+        state = reference.trajectory(scene, x, v, T * ticks / SECTION_GRID, dps=dps)
+        return phase, from_mpf(state.x_end), from_mpf(state.v_end)
