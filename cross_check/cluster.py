@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import time
 
 class ClusterError(ValueError):
     """No cluster to run on: dask.distributed missing, or the scheduler unreachable (exit 2)."""
@@ -56,3 +57,17 @@ def client(scheduler=None, workers=2, *, given=None):
     with LocalCluster(n_workers=check_workers(workers), threads_per_worker=1, processes=True,
                       dashboard_address=":0", silence_logs=logging.ERROR) as cluster, Client(cluster) as own:
         yield own
+
+
+def as_done(futures, weights=None):
+    """Yield ``(n, future, eta)`` as ``futures`` complete (any order): ``n`` the count so far,
+    ``eta`` the seconds still to go at the rate so far, by ``weights`` (``{future: work}``, e.g.
+    points) or one per future."""
+    from distributed import as_completed
+
+    futures = list(futures)
+    weights = weights or dict.fromkeys(futures, 1)
+    total, finished, t0 = sum(weights.values()), 0, time.perf_counter()
+    for n, fut in enumerate(as_completed(futures), 1):
+        finished += weights[fut]
+        yield n, fut, (total - finished) * max(time.perf_counter() - t0, 1e-9) / max(finished, 1)

@@ -211,19 +211,16 @@ def compute(n, claims=tuple(CLAIMS), *, scheduler=None, workers=2, client=None, 
     tag = zlib.crc32(repr((tuple(claims), tuple(window), max_leaves, chunk)).encode())
     chunks = [cells[k:k + chunk] for k in range(0, len(cells), chunk)]
     with cluster.client(scheduler, workers, given=client) as client:
-        from distributed import as_completed
-
         t0 = time.perf_counter()
         futures = {client.submit(evaluate_chunk, n, part, tuple(claims), window, max_leaves,
                                  retries=RETRIES, pure=False,
                                  key=f"proved-atlas-{n}-{k}-{tag}"): k
                    for k, part in enumerate(chunks)}
         results = [None] * len(chunks)
-        for done, fut in enumerate(as_completed(futures), 1):
+        for done, fut, eta in cluster.as_done(futures):
             results[futures[fut]] = fut.result()
             if progress:
-                rate = done / (time.perf_counter() - t0)
-                progress(f"proved atlas: chunk {done}/{len(chunks)}, ETA {(len(chunks) - done) / rate:.0f} s")
+                progress(f"proved atlas: chunk {done}/{len(chunks)}, ETA {eta:.0f} s")
         seconds = time.perf_counter() - t0
         n_workers = len(client.scheduler_info()["workers"])
     records = [r for part in results for r in part]

@@ -168,23 +168,19 @@ def compute(claims, grid, out_dir, *, scheduler=None, workers=2, chunk=None, pro
 
 def _run(client, path, grid, claims, todo, stats, say):
     """Submit one task per block still to do, count them in as they complete (any order)."""
-    from distributed import as_completed
-
     t0 = time.perf_counter()
     token = uuid.uuid4().hex[:12]
-    futures = [client.submit(run_block, str(path), grid, k, rows, cols, tuple(claims),
-                             key=f"atlas-{token}-{k}", retries=RETRIES, pure=False)
-               for k, rows, cols in todo]
-    total = sum((r.stop - r.start) * (c.stop - c.start) for _, r, c in todo)
-    for n, fut in enumerate(as_completed(futures), 1):
+    futures = {client.submit(run_block, str(path), grid, k, rows, cols, tuple(claims),
+                             key=f"atlas-{token}-{k}", retries=RETRIES, pure=False):
+               (rows.stop - rows.start) * (cols.stop - cols.start) for k, rows, cols in todo}
+    for n, fut, eta in cluster.as_done(futures, futures):
         k, points, seconds, cpu = fut.result()
         stats["computed"] += 1
         stats["points"] += points
         stats["task_seconds"] += seconds
         stats["task_cpu_seconds"] += cpu
-        rate = stats["points"] / (time.perf_counter() - t0)
-        say(f"atlas: chunk {k} written ({n}/{len(todo)}), {rate:.1f} points/s, "
-            f"ETA {(total - stats['points']) / rate:.0f} s")
+        say(f"atlas: chunk {k} written ({n}/{len(todo)}), "
+            f"{stats['points'] / (time.perf_counter() - t0):.1f} points/s, ETA {eta:.0f} s")
     stats["seconds"] = time.perf_counter() - t0
     stats["workers"] = len(client.scheduler_info()["workers"])
 

@@ -74,20 +74,16 @@ class _Run:
     def gather(self, pairs=None):
         """Wait for the futures (all, or those of ``pairs``); ``{(scene, what): (result, seconds)
         or exception}`` and a progress line per finished task."""
-        from distributed import as_completed
-
         want = {self.futures[p]: p for p in (pairs or list(self.futures))}
         out = {}
-        for done, fut in enumerate(as_completed(list(want)), 1):
+        for done, fut, eta in cluster.as_done(want):
             where = want[fut]
             try:
                 out[where] = fut.result()
             except Exception as exc:  # noqa: BLE001 -- a failed task is reported, the rest goes on
                 out[where] = exc
-            rate = done / max(time.perf_counter() - self.t0, 1e-9)
             self.progress(f"verify: task {done}/{len(want)} ({where[0]}: {where[1]}"
-                          f"{', FAILED' if isinstance(out[where], Exception) else ''}), "
-                          f"ETA {(len(want) - done) / rate:.0f} s")
+                          f"{', FAILED' if isinstance(out[where], Exception) else ''}), ETA {eta:.0f} s")
         return out
 
 
