@@ -182,12 +182,3 @@ def _plain(value):
 
 def _repr(exact) -> str:
     return repr(str(exact)) if isinstance(exact, Fraction) else repr(exact.text)
-
-
-def as_box(scene) -> ParamBox:
-    """A scene as the point box it is (``ParamBox`` passes through)."""
-    if isinstance(scene, ParamBox):
-        return scene
-    if scene.wavenumber is not None:
-        raise ValueError("as_box: position-dependent forcing has no parameter box")
-    return ParamBox(**{k: _plain(scene.exact(k)) for k in PARAMS})
