@@ -109,7 +109,8 @@ def test_parameter_derivatives_match_finite_differences(base, state, kinds, name
         ends = [section_map(Scene(**{**base, name: Fraction(str(base.get(name, 1))) + s * h}),
                             *state, Fraction(5, 16), 1) for s in (1, -1)]
         with mpmath.workdps(DPS):
-            fd = [(ends[0][k] - ends[1][k]) / (2 * mpmath.mpf(h)) for k in range(2)]
+            fd = [(ends[0][k] - ends[1][k]) / (2 * mpmath.mpf(h.numerator) / h.denominator)
+                      for k in range(2)]
         for c, d in zip(col, fd):
             assert abs(float(c.mid()) - float(d)) <= 1e-15 * (1 + abs(float(d))), (name, c, d)
 
