@@ -77,6 +77,32 @@ def cuts(phase, periods, times, pieces=PIECES):
     return out + [phase + periods]
 
 
+def inflate(z, head, C, jacobian, floor):
+    """The Krawczyk test with epsilon-inflation: ``Z = z +- rho``, ``rho`` from
+    ``2 |head| + floor``, ``K = z - head + (I - C DF(Z)) (Z - z)`` (``head`` encloses
+    ``C F(z, p)`` for every parameter, ``jacobian(rho)`` encloses ``DF`` over ``Z`` and the
+    parameters, or says why it cannot), ``rho <- max(2 |K - z|, rho)`` at most ``INFLATIONS``
+    times.  ``(K, rho, None)`` once ``K`` lies in the interior of ``Z`` (then, for every
+    parameter, ``F`` has exactly one zero in ``Z``, and it lies in ``K``), else
+    ``(None, rho, reason)``."""
+    N = len(z)
+    rho = tried = [(2 * abs(head[k, 0]) + floor[k]).upper() for k in range(N)]
+    for _ in range(INFLATIONS + 1):
+        tried = rho
+        DF = jacobian(rho)
+        if isinstance(DF, str):
+            return None, rho, DF
+        tail = ((_identity(N) - C * DF) * _vec([arb(0, r) for r in rho])).entries()
+        K = [z[k] - head[k, 0] + tail[k] for k in range(N)]
+        if all(arb(z[k], rho[k]).contains_interior(K[k]) for k in range(N)):
+            return K, rho, None
+        rho = [max((2 * abs(K[k] - z[k])).upper(), rho[k]) for k in range(N)]
+        if not all(g.is_finite() for g in rho):
+            break
+    return None, tried, (f"K(Z) is not inside Z after {INFLATIONS} inflations (radii "
+                         f"{_radii(float(r) for r in tried)}): the box is too wide for the contraction")
+
+
 class Shooting:
     """One multiple-shooting proof over ``box`` around the midpoint orbit through ``z`` (module
     docstring).  ``prove(fail, done)`` returns ``fail(reason, radii)`` or ``done(...)``."""
@@ -153,26 +179,19 @@ class Shooting:
         if head is None:
             return fail("the residual at the midpoint parameters is not proved", ())
         floor = [(abs(c) + 1) * arb(2) ** (-self.prec // 2) for c in flat]
-        rho = [(2 * abs(head[k, 0]) + floor[k]).upper() for k in range(2 * n)]
-        radii = ()
-        for _ in range(INFLATIONS + 1):
-            radii = tuple(float(r) for r in rho)
+
+        def jacobian(rho):
             encs = [self.piece(i, *self.z[i], rho[2 * i], rho[2 * i + 1]) for i in range(n)]
             bad = next((e for e in encs if not e.proved), None)
             if bad is not None:
-                return fail(f"the itinerary is not proved the same on the state boxes of radii "
-                            f"{_radii(radii)} for every parameter of the box: {bad.reason}", radii)
-            B = _identity(2 * n) - C * self._jacobian(encs)
-            tail = (B * _vec([arb(0, r) for r in rho])).entries()
-            K = [flat[k] - head[k, 0] + tail[k] for k in range(2 * n)]
-            if all(arb(flat[k], rho[k]).contains_interior(K[k]) for k in range(2 * n)):
-                return self._classified(K, rho, fail, done)
-            grown = [max((2 * abs(K[k] - flat[k])).upper(), rho[k]) for k in range(2 * n)]
-            if not all(g.is_finite() for g in grown):
-                break
-            rho = grown
-        return fail(f"K(Z) is not inside Z after {INFLATIONS} inflations (radii {_radii(radii)}): "
-                    f"the box is too wide for the contraction", radii)
+                return (f"the itinerary is not proved the same on the state boxes of radii "
+                        f"{_radii(float(r) for r in rho)} for every parameter of the box: {bad.reason}")
+            return self._jacobian(encs)
+
+        K, rho, why = inflate(flat, head, C, jacobian, floor)
+        if K is None:
+            return fail(why, tuple(float(r) for r in rho))
+        return self._classified(K, rho, fail, done)
 
     def _classified(self, K, rho, fail, done):
         """The pieces over the ``K_i`` (the orbit's states, for every ``p``): the monodromy
