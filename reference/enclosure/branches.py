@@ -14,6 +14,10 @@ period-``m`` analogues (``reference.paper.symmetric_solution``) fly ``l -> r`` o
   periods and nothing else (non-sticking), and the type (``"elliptic"``: ``|tr| < 2`` proved
   with ``det = 1``; ``"saddle"``: ``tr > 2`` proved; ``None``: any).
 
+A leaf is proved as the stroboscopic map in multiple shooting (``method="shooting"``,
+``boxes``) or in impact coordinates (``method="impacts"``, ``impacts``: the guess is then the
+closed form's impact phases ``psi``, ``psi + m pi`` and its impact speed).
+
 That the proved orbit is the symmetric one is by construction (it continues the closed form's
 state); the symmetry itself is not part of the proof.
 """
@@ -25,6 +29,7 @@ import mpmath
 
 from reference import paper as P
 from reference.enclosure.continuation import cover
+from reference.enclosure.impacts import prove_two_impacts
 from reference.enclosure.shooting import SECTION_GRID
 
 #: digits of the closed form's starting guess (Newton polishes it at the proof's precision)
@@ -73,8 +78,10 @@ def common_ticks(scene, branches, m=1):
     return Fraction(max(range(SECTION_GRID * m), key=gap), SECTION_GRID)
 
 
-def guess(branch, m, ticks):
-    """``scene -> (x, v)``: the closed form's state at ``t = ticks T``, or why there is none."""
+def guess(branch, m, ticks, impacts=False):
+    """``scene -> (x, v)``: the closed form's state at ``t = ticks T``, or why there is none;
+    with ``impacts`` its impact coordinates ``(psi, V, psi + m pi, V)`` (``impacts``: the phases
+    of the impacts on ``l`` and ``r``, ``V`` the impact speed)."""
     def at(scene):
         got = _times(scene, branch, m)
         if got is None:
@@ -85,6 +92,8 @@ def guess(branch, m, ticks):
                     f"in flight: margin {mpmath.nstr(margin, 3)})")
         with mpmath.workdps(GUESS_DPS):
             sol, T, _ = got
+            if impacts:
+                return sol.psi, sol.v_impact, sol.tau, sol.v_impact
             t = T * ticks.numerator / ticks.denominator
             return sol.x(t), sol.v(t)
     return at
@@ -103,16 +112,31 @@ def claim_check(kind=None, impacts=2):
     return check
 
 
-def symmetric_cover(box, branch, m=1, *, kind=None, ticks=None, max_leaves=64, prec=None):
+#: how a leaf is proved: the stroboscopic map in multiple-shooting form (``shooting``), or the
+#: impacts as unknowns (``impacts``: no ``1/V`` blow-up at slow impacts; no damping)
+METHODS = ("shooting", "impacts")
+
+
+def symmetric_cover(box, branch, m=1, *, kind=None, ticks=None, max_leaves=64, prec=None,
+                    method="shooting", min_fraction=None):
     """``continuation.cover`` of the symmetric orbit ``x_branch`` (period ``m``) over ``box``,
     at the section ``ticks`` (default :func:`section_ticks` at the box's midpoint), with
-    :func:`claim_check` of ``kind``.  ``(cover, ticks)``; ``cover`` is None (with the reason
-    as ``ticks``) when the box's midpoint has no closed form."""
+    :func:`claim_check` of ``kind``, each leaf proved by ``method`` (:data:`METHODS`).
+    ``(cover, ticks)``; ``cover`` is None (with the reason as ``ticks``) when the box's
+    midpoint has no closed form."""
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     mid = box.midpoint()
     ticks = section_ticks(mid, branch, m) if ticks is None else Fraction(ticks)
     if ticks is None:
         return None, f"no symmetric solution at the box's midpoint: f/F > 2/({m} pi)"
     kw = {} if prec is None else {"prec": prec}
-    got = cover(box, guess(branch, m, ticks), phase=ticks - (ticks.numerator // ticks.denominator),
+    if min_fraction is not None:
+        kw["min_fraction"] = Fraction(min_fraction)
+    if method == "impacts":
+        kw["prove"] = lambda leaf, state: prove_two_impacts(leaf, state, periods=m, ticks=ticks,
+                                                            **({} if prec is None else {"prec": prec}))
+    got = cover(box, guess(branch, m, ticks, impacts=method == "impacts"),
+                phase=ticks - (ticks.numerator // ticks.denominator),
                 periods=m, accept=claim_check(kind), max_leaves=max_leaves, **kw)
     return got, ticks

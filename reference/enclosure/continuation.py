@@ -71,7 +71,8 @@ def _split_name(box, root, hint, min_fraction):
 
 def cover(box: ParamBox, guess: Callable, *, phase, periods: int = 1,
           accept: Optional[Callable] = None, max_leaves: int = 64,
-          min_fraction: Fraction = Fraction(1, 64), prec: int = BOX_PREC) -> Cover:
+          min_fraction: Fraction = Fraction(1, 64), prec: int = BOX_PREC,
+          prove: Optional[Callable] = None) -> Cover:
     """Prove the orbit for every parameter of ``box`` (module docstring).
 
     ``guess(scene)``: the orbit's state ``(x, v)`` at ``t = phase T`` for a scene (the
@@ -80,7 +81,8 @@ def cover(box: ParamBox, guess: Callable, *, phase, periods: int = 1,
     itinerary), else the reason it does not (a leaf that fails it is split like a failed
     one: the claim may hold on its halves).  A leaf narrower than ``min_fraction`` of the box
     in the direction it would be split, or more than ``max_leaves`` attempts, ends the cover
-    unproved."""
+    unproved.  ``prove(leaf, state)``: the leaf's proof (a :class:`BoxOrbitProof`), by default
+    ``boxes.prove_periodic_box`` from the state ``(x, v)`` at ``t = phase T``."""
     if not isinstance(box, ParamBox):
         raise TypeError(f"box must be a ParamBox, got {type(box).__name__}")
     phase = Fraction(phase)
@@ -96,7 +98,8 @@ def cover(box: ParamBox, guess: Callable, *, phase, periods: int = 1,
         if isinstance(state, str):
             out.reason = f"no candidate orbit at {leaf.midpoint()!r}: {state}"
             return out
-        proof = prove_periodic_box(leaf, state[0], state[1], periods=periods, phase=phase, prec=prec)
+        proof = (prove(leaf, state) if prove is not None else
+                 prove_periodic_box(leaf, state[0], state[1], periods=periods, phase=phase, prec=prec))
         why = proof.reason if not proof.proved else (accept(proof) if accept else None)
         if why is None:
             out.leaves.append(proof)
