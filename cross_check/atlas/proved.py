@@ -10,10 +10,14 @@ claim is proved for every parameter of the box (``reference.enclosure``: the par
 Krawczyk operator, ``reference.enclosure.branches``):
 
 * ``x1-centre``: the symmetric solution ``x1`` -- two impacts a period and no other event
-  (non-sticking), unique (shooting boxes), elliptic: ``|tr| < 2`` proved, ``det = 1``;
+  (non-sticking), unique in its Krawczyk box (of impact coordinates, or the shooting boxes), elliptic: ``|tr| < 2`` proved, ``det = 1``;
 * ``x2-saddle``: ``x2``, the same but a saddle: ``tr > 2`` proved;
 * ``period3-centre``: the symmetric period-3 solution (two impacts in three periods), elliptic.
 
+Each sub-box is proved in impact coordinates (``--method impacts``, the default:
+``reference.enclosure.impacts``, the impact phases and speeds as the unknowns of closed-form
+equations, so that x2's slow impacts near its grazing boundary cost no blow-up), or as the
+stroboscopic map in multiple shooting (``--method shooting``: ``reference.enclosure.shooting``).
 A box too wide to prove at once is bisected (``continuation.cover``, at most ``MAX_LEAVES``
 sub-boxes): a record covers the whole box, ``proved`` only if every sub-box is; its balls are
 the union of the sub-boxes' (``x``, ``v`` hold the orbit's state at ``t = phase / w`` for
@@ -51,7 +55,7 @@ from cross_check.atlas import claims as C
 from cross_check.progress import Progress
 from reference import paper as P
 from reference.enclosure.balls import decimal_ball, from_fraction, radius_text, workprec
-from reference.enclosure.branches import symmetric_cover
+from reference.enclosure.branches import METHODS, symmetric_cover
 from reference.enclosure.params import ParamBox
 
 #: claim -> (branch, periods m, proved type)
@@ -60,6 +64,9 @@ CLAIMS = {"x1-centre": (1, 1, "elliptic"), "x2-saddle": (2, 1, "saddle"),
 #: sub-boxes one box may use (boxes at the edge of the numerical region get BOUNDARY_LEAVES)
 MAX_LEAVES, BOUNDARY_LEAVES = 512, 16
 CHUNK, RETRIES = 4, 3
+#: how each leaf is proved (``branches.METHODS``): in impact coordinates, where the slow
+#: impacts near x2's grazing boundary keep their equations smooth (``impacts``)
+METHOD = "impacts"
 #: digits of the written midpoints; the section's angle is written to PHASE_DIGITS
 BALL_DIGITS, PHASE_DIGITS = 30, 40
 
@@ -149,7 +156,7 @@ def _section(ticks, box, hull):
     return text, str(phase), dx, dv
 
 
-def prove_box(claim, n, i, j, inside, crosses, window=PLANE, max_leaves=MAX_LEAVES):
+def prove_box(claim, n, i, j, inside, crosses, window=PLANE, max_leaves=MAX_LEAVES, method=METHOD):
     """One record (module docstring) of ``claim`` on box ``(i, j)``."""
     box = box_of(n, i, j, window)
     fe, Re = edges(n, window)
@@ -162,7 +169,8 @@ def prove_box(claim, n, i, j, inside, crosses, window=PLANE, max_leaves=MAX_LEAV
         return rec
     branch, m, kind = CLAIMS[claim]
     got, ticks = symmetric_cover(box, branch, m, kind=kind,
-                                 max_leaves=max_leaves if inside else min(max_leaves, BOUNDARY_LEAVES))
+                                 max_leaves=max_leaves if inside else min(max_leaves, BOUNDARY_LEAVES),
+                                 method=method)
     if got is None:
         rec["reason"] = ticks
         return rec
@@ -179,7 +187,7 @@ def prove_box(claim, n, i, j, inside, crosses, window=PLANE, max_leaves=MAX_LEAV
     return rec
 
 
-def evaluate_chunk(n, cells, claims, window=PLANE, max_leaves=MAX_LEAVES):
+def evaluate_chunk(n, cells, claims, window=PLANE, max_leaves=MAX_LEAVES, method=METHOD):
     """One task: the records of every claim on the boxes ``cells`` (runs on a worker)."""
     out = []
     for i, j in cells:
@@ -190,12 +198,12 @@ def evaluate_chunk(n, cells, claims, window=PLANE, max_leaves=MAX_LEAVES):
             inside = True if all(hits) else (False if any(hits) else None)
             branch, m, kind = CLAIMS[claim]
             crosses = kind == "elliptic" and crosses_tr_minus_2(box, branch, m)
-            out.append(prove_box(claim, n, i, j, inside, crosses, window, max_leaves))
+            out.append(prove_box(claim, n, i, j, inside, crosses, window, max_leaves, method))
     return out
 
 
 def compute(n, claims=tuple(CLAIMS), *, scheduler=None, workers=2, client=None, chunk=CHUNK,
-            progress=None, window=PLANE, max_leaves=MAX_LEAVES):
+            progress=None, window=PLANE, max_leaves=MAX_LEAVES, method=METHOD):
     """``(records, stats)``: every claim on every box, in grid order (``i`` over ``w^2 R/F``,
     then ``j`` over ``f/F``, then the claims), on ``client`` or a new cluster."""
     unknown = [c for c in claims if c not in CLAIMS]
@@ -207,12 +215,14 @@ def compute(n, claims=tuple(CLAIMS), *, scheduler=None, workers=2, client=None, 
     if not (isinstance(max_leaves, int) and 1 <= max_leaves <= 4096):
         raise ValueError(f"max_leaves must be an int in [1, 4096], got {max_leaves!r}")
     check_window(n, window)
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     cells = [(i, j) for i in range(n) for j in range(n)]
-    tag = zlib.crc32(repr((tuple(claims), tuple(window), max_leaves, chunk)).encode())
+    tag = zlib.crc32(repr((tuple(claims), tuple(window), max_leaves, chunk, method)).encode())
     chunks = [cells[k:k + chunk] for k in range(0, len(cells), chunk)]
     with cluster.client(scheduler, workers, given=client) as client:
         t0 = time.perf_counter()
-        futures = {client.submit(evaluate_chunk, n, part, tuple(claims), window, max_leaves,
+        futures = {client.submit(evaluate_chunk, n, part, tuple(claims), window, max_leaves, method,
                                  retries=RETRIES, pure=False,
                                  key=f"proved-atlas-{n}-{k}-{tag}"): k
                    for k, part in enumerate(chunks)}
@@ -225,7 +235,7 @@ def compute(n, claims=tuple(CLAIMS), *, scheduler=None, workers=2, client=None, 
         n_workers = len(client.scheduler_info()["workers"])
     records = [r for part in results for r in part]
     return records, {"seconds": round(seconds, 1), "boxes": len(cells), "workers": n_workers,
-                     "window": [str(w) for w in window], "max_leaves": max_leaves}
+                     "window": [str(w) for w in window], "max_leaves": max_leaves, "method": method}
 
 
 def summary(records):
@@ -256,7 +266,8 @@ def provenance(n, stats):
             "scene": "F = 1, f = f/F, omega = 1, l = 0, r = w^2 R/F (dimensionless)",
             "f_over_F": "edges f0 + (f1 - f0) j/N",
             "w2R_over_F": "edges log-spaced over [R0, R1], inner ones rounded to multiples of 2^-10",
-            "max_leaves": stats["max_leaves"], "boundary_leaves": BOUNDARY_LEAVES, "stats": stats,
+            "max_leaves": stats["max_leaves"], "boundary_leaves": BOUNDARY_LEAVES,
+            "method": stats.get("method", METHOD), "stats": stats,
             "versions": {"python": platform.python_version(), "mpmath": mpmath.__version__,
                          "python-flint": flint.__version__, "dask": dask.__version__,
                          "distributed": distributed.__version__}}
@@ -354,6 +365,9 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default="atlas", help="output directory (default: atlas/)")
     ap.add_argument("--max-leaves", type=int, default=MAX_LEAVES,
                     help=f"sub-boxes one box may use before it is declared unproved (default {MAX_LEAVES})")
+    ap.add_argument("--method", choices=METHODS, default=METHOD,
+                    help="how a sub-box is proved: 'impacts' (the impacts as unknowns; default) or "
+                         "'shooting' (the stroboscopic map in multiple-shooting form)")
     ap.add_argument("--window", nargs=4, metavar=("F0", "F1", "R0", "R1"), default=None,
                     help="zoom: cover [F0, F1] x [R0, R1] of (f/F, w^2 R/F) instead of the whole plane "
                          "(decimal numbers; exact)")
@@ -365,7 +379,8 @@ def main(argv=None) -> int:
         return 2
     try:
         records, stats = compute(args.grid, tuple(args.claim), scheduler=args.scheduler, workers=args.workers,
-                                 window=window, max_leaves=args.max_leaves, progress=Progress())
+                                 window=window, max_leaves=args.max_leaves, method=args.method,
+                                 progress=Progress())
     except ValueError as exc:
         print(f"prove --atlas: {exc}", file=sys.stderr)
         return 2
