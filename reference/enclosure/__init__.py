@@ -45,9 +45,10 @@ roots), ``walk`` (the itinerary, event by event, chatter tails), ``maps`` (``enc
 ``shooting``, ``boxes``, ``jets``, ``impacts``, ``continuation``, ``branches``.
 """
 from reference.enclosure.certify import Unproved
+from reference.enclosure.impacts import prove_two_impacts
 from reference.enclosure.maps import MapEnclosure, enclose_map
 from reference.enclosure.orbits import OrbitProof, prove_periodic, prove_segment
 from reference.enclosure.params import ParamBox
 
 __all__ = ["enclose_map", "MapEnclosure", "prove_periodic", "prove_segment", "OrbitProof", "Unproved",
-           "ParamBox"]
+           "ParamBox", "prove_two_impacts"]
