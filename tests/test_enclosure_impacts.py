@@ -11,15 +11,15 @@ from fractions import Fraction
 
 import mpmath
 import pytest
-from flint import arb
+from flint import arb, arb_mat
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from reference import paper as P
 from reference.enclosure import ParamBox, prove_periodic
 from reference.enclosure import impacts as I
-from reference.enclosure.balls import from_number, workprec
-from reference.enclosure.branches import guess, section_ticks, symmetric_cover
+from reference.enclosure.balls import from_number, span, workprec
+from reference.enclosure.branches import common_ticks, guess, section_ticks, symmetric_cover
 from reference.enclosure.jets import Jet
 from tests.test_enclosure_boxes import inside, reference_fixed_point
 
@@ -180,3 +180,120 @@ def test_damping_and_a_malformed_guess_are_refused_by_name():
         I.prove_two_impacts(ParamBox(F=1, f="0.3", omega=1, l=0, r=20, damping="0.1"), (0, 1, 3, 1))
     with pytest.raises(TypeError, match="guess"):
         I.prove_two_impacts(ParamBox(F=1, f="0.3", omega=1, l=0, r=20), "no symmetric solution")
+
+
+# --- uniqueness in the state ball ---------------------------------------------------------
+def _both(fF="0.6", R="5"):
+    """x1 and x2 at one point, proved at one section where both move right."""
+    box = ParamBox(F=1, f=fF, omega=1, l=0, r=R)
+    ticks = common_ticks(box.midpoint(), (1, 2))
+    return box, ticks, [I.prove_two_impacts(box, impact_guess(box, b), ticks=ticks) for b in (1, 2)]
+
+
+def test_a_point_orbit_is_the_only_fixed_point_in_its_ball():
+    _, _, (x1, x2) = _both()
+    assert x1.unique_in_point and x2.unique_in_point
+    tiny = ParamBox(F=1, f=("0.3", "0.300001"), omega=1, l=0, r=("20", "20.00001"))
+    assert prove(tiny, 1)[0].unique_in_point
+
+
+def test_a_ball_that_holds_both_orbits_is_not_called_unique():
+    """The union of x1's and x2's states (both moving right) holds two fixed points: from
+    neither orbit's impact box may the check say that every orbit of it enters."""
+    box, ticks, (x1, x2) = _both()
+    with workprec(128):
+        assert x1.point[1] > 0 and x2.point[1] > 0
+        both = tuple(a.union(b) for a, b in zip(x1.point, x2.point))
+        for proof in (x1, x2):
+            for scale in I.UNIQUE_SCALES:
+                U = [arb(k.mid(), r * scale) for k, r in zip(proof.impacts, proof.impact_radii)]
+                assert I.every_orbit_enters(U, I._params(box), 1, ticks, proof.point)
+                assert not I.every_orbit_enters(U, I._params(box), 1, ticks, both)
+
+
+@pytest.fixture(scope="module")
+def x1_point():
+    box = ParamBox(F=1, f="0.3", omega=1, l=0, r="20")
+    ticks = section_ticks(box.midpoint(), 1)
+    proof = I.prove_two_impacts(box, impact_guess(box, 1), ticks=ticks)
+    return box, ticks, proof, P.symmetric_solution(box.midpoint(), 1, dps=60)
+
+
+def test_a_leg_finds_the_closed_forms_impact_and_refuses_wrong_windows(x1_point):
+    box, ticks, proof, sol = x1_point
+    with workprec(128):
+        p = I._params(box)
+        a, A, b, B = (arb(k.mid(), 4 * r) for k, r in zip(proof.impacts, proof.impact_radii))
+        ts, up = I._section([a, A, b, B], 1, ticks)
+        X, V = proof.point
+        assert up
+        theta, hit = I.leg(ts, X, V, 1, p[5], b, B, p)
+        tau = from_number(sol.tau)                       # the paper's impact on r (independent)
+        assert theta.overlaps(tau) and hit.overlaps(from_number(sol.v_impact)) and theta.rad() < 1e-25
+        assert I.leg(ts, X, V, 1, p[5], b + arb("0.3"), B, p) is None      # crossed before the window
+        assert I.leg(ts, X, V, 1, p[5], b - arb("0.3"), B, p) is None      # not yet at the window
+        assert I.leg(ts, X, V, 1, p[5], b, B + 1, p) is None               # the speed is not in U
+        assert I.leg(ts, X, -V, 1, p[5], b, B, p) is None                  # moving the other way
+
+
+def test_a_flight_to_the_section_refuses_an_impact_or_a_turn_on_the_way(x1_point):
+    box, ticks, proof, _ = x1_point
+    with workprec(128):
+        p = I._params(box)
+        a, A, b, B = proof.impacts
+        ts = I._section(proof.impacts, 1, ticks)[0]
+        e, l = p[3], p[4]
+        assert I.flies_to(a, l, e * A, 1, ts, p)                       # the orbit's own flight
+        assert not I.flies_to(a, l, e * A, 1, b + arb("0.1"), p)         # past the impact on r
+        assert not I.flies_to(a, l, arb("0.01"), 1, ts, p)              # friction turns it first
+
+
+def test_uniqueness_needs_the_krawczyk_test_of_the_wide_box(x1_point):
+    """The orbit chain of the point's ball enters its impact box, but with a wrong residual
+    (``head`` off by 1) the Krawczyk test fails, and uniqueness must not be claimed."""
+    box, ticks, proof, _ = x1_point
+    with workprec(128):
+        P_ = I._params(box)
+        u = [k.mid() for k in proof.impacts]
+        C = I._jacobian(u, [arb(0)] * 4, P_, 1).mid().inv().mid()
+        head = C * arb_mat([[g] for g in I.equations(u, P_, 1)])
+        rho = [arb(r) for r in proof.impact_radii]
+        assert I._unique_in_state(u, head, C, P_, 1, rho, ticks, proof.point)
+        off = head + arb_mat([[1]] * 4)
+        assert not I._unique_in_state(u, off, C, P_, 1, rho, ticks, proof.point)
+
+
+def test_a_leg_or_a_flight_through_a_stop_is_refused():
+    """x1's closed form at f = 0.3, w^2 R/F = 1.045 (the sticking side): its up-flight velocity
+    dips below 0 at w t = -arccos(f/F) and recovers, so the closed form still meets the walls at
+    the impacts -- but the motion sticks there.  The ends of the legs alone would pass; the
+    velocity's sign must refuse them."""
+    box = ParamBox(F=1, f="0.3", omega=1, l=0, r="1.045")
+    sol = P.symmetric_solution(box.midpoint(), 1, dps=60)
+    with workprec(128):
+        p = I._params(box)
+        psi, tau, V = (from_number(x) for x in (sol.psi, sol.tau, sol.v_impact))
+        dip = -(arb("0.3").acos())
+        assert psi < dip and dip < tau
+        assert I.flight(psi, p[4], V, 1, dip, *p[:3])[1] < 0              # the closed form turns
+        end = dip + arb("0.3")
+        x_end = I.flight(psi, p[4], V, 1, end, *p[:3])[0]
+        assert p[4] < x_end and x_end < p[5]                                # the ends look fine
+        assert not I.flies_to(psi, p[4], V, 1, end, p)
+        t0 = psi + arb("0.1")
+        x0, u0 = I.flight(psi, p[4], V, 1, t0, *p[:3])
+        window, speed = arb(tau.mid(), 1e-6), arb(V.mid(), 1e-3)
+        lo, hi = window.lower(), window.upper()
+        assert I.flight(t0, x0, u0, 1, lo, *p[:3])[0] < p[5] < I.flight(t0, x0, u0, 1, hi, *p[:3])[0]
+        assert I.leg(t0, x0, u0, 1, p[5], window, speed, p) is None
+
+
+def test_the_crossing_narrows_an_off_centre_window(x1_point):
+    box, ticks, proof, sol = x1_point
+    with workprec(128):
+        p = I._params(box)
+        ts = I._section(proof.impacts, 1, ticks)[0]
+        tau = from_number(sol.tau)
+        window = span(tau - arb("0.01"), tau + arb("0.05"))
+        theta = I._crossing(ts, *proof.point, 1, p[5], window, p)
+        assert theta.contains(tau) and theta.rad() < 1e-3

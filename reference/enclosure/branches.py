@@ -123,7 +123,9 @@ def symmetric_cover(box, branch, m=1, *, kind=None, ticks=None, max_leaves=64, p
     at the section ``ticks`` (default :func:`section_ticks` at the box's midpoint), with
     :func:`claim_check` of ``kind``, each leaf proved by ``method`` (:data:`METHODS`).
     ``(cover, ticks)``; ``cover`` is None (with the reason as ``ticks``) when the box's
-    midpoint has no closed form."""
+    midpoint has no closed form.  (``impacts`` leaves do not try uniqueness in their state
+    ball: on leaves as wide as the atlas's it does not hold, and it would cost as much as the
+    proof.)"""
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     mid = box.midpoint()
@@ -134,7 +136,7 @@ def symmetric_cover(box, branch, m=1, *, kind=None, ticks=None, max_leaves=64, p
     if min_fraction is not None:
         kw["min_fraction"] = Fraction(min_fraction)
     if method == "impacts":
-        kw["prove"] = lambda leaf, state: prove_two_impacts(leaf, state, periods=m, ticks=ticks,
+        kw["prove"] = lambda leaf, state: prove_two_impacts(leaf, state, periods=m, ticks=ticks, unique=False,
                                                             **({} if prec is None else {"prec": prec}))
     got = cover(box, guess(branch, m, ticks, impacts=method == "impacts"),
                 phase=ticks - (ticks.numerator // ticks.denominator),

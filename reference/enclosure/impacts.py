@@ -35,8 +35,14 @@ one sign makes the closed form the motion (no turn, no stop: Filippov sticking n
 From ``K``: the state at the section ``t = ticks T`` (in the flight that provably contains it),
 and the monodromy ``tr(S_l Fl(d_2) S_r Fl(d_1))`` (flight factor ``[[1, d], [0, 1]]``, the
 impact's saltation matrix ``[[-e, 0], [(a+ + e a-)/v-, -e]]``, ``a-+`` the accelerations before
-and after); its determinant is ``e^4``.  Uniqueness is in impact coordinates: one orbit whose
-impacts lie in ``U`` (``unique_in_point`` is False: not proved for the state ball alone).
+and after); its determinant is ``e^4``.
+
+Uniqueness: one orbit whose impacts lie in ``U``, and -- ``unique_in_point`` -- one fixed
+point of ``Phi^m`` in the state ball ``S`` when every orbit from ``S`` provably hits the walls
+next inside an impact box ``U'`` that passes the Krawczyk test and flies back to the section
+with no other event (:func:`every_orbit_enters`).  For then a fixed point ``z`` in ``S`` has
+impacts ``(a*, A*, b*, B*)`` in ``U'``, and the flight from the second impact through ``z`` on
+to the first, one closed form, makes them a zero of ``G``: the one zero in ``U'``.
 """
 from __future__ import annotations
 
@@ -50,12 +56,15 @@ from reference.enclosure.balls import BallModel, from_fraction, from_number, wor
 from reference.enclosure.boxes import BOX_PREC, NEWTON_STEPS, BoxOrbitProof
 from reference.enclosure.jets import Jet
 from reference.enclosure.kinds import classify
-from reference.enclosure.shooting import inflate
+from reference.enclosure.shooting import inflate, krawczyk
 
 #: the parameters in the jets' order (after the four unknowns)
 NAMES = ("F", "f", "omega", "restitution", "l", "r")
 #: pieces of one flight the velocity-sign proof may use
 SIGN_PIECES = 2048
+#: the impact boxes tried for uniqueness in the state ball, in multiples of the Krawczyk box's
+#: radii (a wider box holds more of the orbits from the ball, if it still contracts)
+UNIQUE_SCALES = (1, 4, 16)
 
 
 @dataclass
@@ -157,19 +166,93 @@ def _itinerary(K, p, m):
     return None
 
 
+def _section(K, m, ticks):
+    """``(t, up)``: the section's phase ``2 pi ticks`` shifted by a multiple of ``2 pi m`` into
+    the up-flight ``(a, b)`` (``up``) or the down-flight ``(b, a + 2 pi m)``, certainly; None if
+    neither is certain."""
+    a, _, b, _ = K
+    period = 2 * m * arb.pi()
+    for j in (-1, 0, 1, 2):
+        t = 2 * arb.pi() * from_fraction(Fraction(ticks)) + j * period
+        if a < t and t < b:
+            return t, True
+        if b < t and t < a + period:
+            return t, False
+    return None
+
+
 def section_state(K, p, m, ticks):
     """``(x, v)`` at phase ``2 pi ticks`` (shifted by multiples of ``2 pi m``) from the flight
     that provably contains it, or a string saying why none does."""
     a, A, b, B = K
     F, f, w, e, l, r = p
+    got = _section(K, m, ticks)
+    if got is None:
+        return f"the section at {ticks} T is not proved away from the impacts {a}, {b}"
+    t, up = got
+    return flight(a, l, e * A, 1, t, F, f, w) if up else flight(b, r, -(e * B), -1, t, F, f, w)
+
+
+def _crossing(t0, x0, u0, s, wall, window, p, steps=3):
+    """The phase where the flight from ``(x0, u0)`` at ``t0`` crosses ``wall``, known to cross
+    once in ``window``: interval Newton ``N = c - g(c) / g'(window)`` (``g = x - wall``,
+    ``g' = v / w``, of one sign there), intersected with the window ``steps`` times."""
+    F, f, w = p[0], p[1], p[2]
+    theta = window
+    for _ in range(steps):
+        c = theta.mid()
+        x_c = flight(t0, x0, u0, s, c, F, f, w)[0]
+        slope = flight(t0, x0, u0, s, theta, F, f, w)[1] / w
+        theta = theta.intersection(c - (x_c - wall) / slope)
+    return theta
+
+
+def leg(t0, x0, u0, s, wall, window, speed, p):
+    """The flight from ``(x0, u0)`` at phase ``t0`` (``sgn x' = s``) towards ``wall``: the
+    ball of the phase where it crosses it and the ball of its speed there, if ``s x' > 0`` on
+    ``[t0, hi]``, ``x`` is before the wall at ``lo`` and beyond it at ``hi`` (``[lo, hi]`` the
+    ball ``window``: then it crosses once, ``x`` being monotone, and nowhere before ``lo``) and
+    the speed lies in the ball ``speed``; else None."""
+    F, f, w = p[0], p[1], p[2]
+    lo, hi = window.lower(), window.upper()
+    if not _one_sign(_velocity(t0, u0, s, hi - t0, F, f, w), s):
+        return None
+    before, after = flight(t0, x0, u0, s, lo, F, f, w)[0], flight(t0, x0, u0, s, hi, F, f, w)[0]
+    if not (s * (before - wall) < 0 and s * (after - wall) > 0):
+        return None
+    theta = _crossing(t0, x0, u0, s, wall, window, p)
+    hit = s * flight(t0, x0, u0, s, theta, F, f, w)[1]
+    return (theta, hit) if hit > 0 and speed.contains(hit) else None
+
+
+def flies_to(t0, x0, u0, s, end, p) -> bool:
+    """Whether the flight from ``(x0, u0)`` at ``t0`` reaches phase ``end`` with no event:
+    ``s x' > 0`` throughout and ``x(end)`` strictly between the walls (``x`` monotone)."""
+    F, f, w, _, l, r = p
+    x_end = flight(t0, x0, u0, s, end, F, f, w)[0]
+    return _one_sign(_velocity(t0, u0, s, end - t0, F, f, w), s) and bool(l < x_end and x_end < r)
+
+
+def every_orbit_enters(U, p, m, ticks, state) -> bool:
+    """Whether every orbit from the state ball at the section hits the walls next inside the
+    impact box ``U`` (two :func:`leg`, the second from the wall with ``-e`` times the first's
+    speed) and flies back to the section with no other event (:func:`flies_to`): then a fixed
+    point of ``Phi^m`` in the ball is a zero of ``G`` in ``U`` (module docstring)."""
+    a, A, b, B = U
+    e, l, r = p[3], p[4], p[5]
     period = 2 * m * arb.pi()
-    for j in (-1, 0, 1, 2):
-        t = 2 * arb.pi() * from_fraction(Fraction(ticks)) + j * period
-        if a < t and t < b:
-            return flight(a, l, e * A, 1, t, F, f, w)
-        if b < t and t < a + period:
-            return flight(b, r, -(e * B), -1, t, F, f, w)
-    return f"the section at {ticks} T is not proved away from the impacts {a}, {b}"
+    got = _section(U, m, ticks)
+    if got is None:
+        return False
+    ts, up = got
+    legs = [(r, 1, b, B), (l, -1, a + period, A)] if up else [(l, -1, a + period, A), (r, 1, b + period, B)]
+    t0, x0, u0 = ts, state[0], state[1]         # (points of the ball past a wall are no states)
+    for wall, s, window, speed in legs:
+        got = leg(t0, x0, u0, s, wall, window, speed, p)
+        if got is None:
+            return False
+        t0, x0, u0 = got[0], wall, -s * e * got[1]
+    return flies_to(t0, x0, u0, -legs[-1][1], ts + period, p)
 
 
 def _mul(X, Y):
@@ -211,10 +294,14 @@ def _trace_jets(u, p, m):
                  [Jet.variable(x, len(u) + i, n) for i, x in enumerate(p)], m)
 
 
-def prove_two_impacts(box, guess, *, periods=1, ticks=Fraction(0), prec=BOX_PREC) -> ImpactOrbitProof:
+def prove_two_impacts(box, guess, *, periods=1, ticks=Fraction(0), prec=BOX_PREC,
+                      unique=True) -> ImpactOrbitProof:
     """Prove, for every parameter of ``box`` (a ``ParamBox`` without damping, or a scene), the
     orbit of ``Phi^periods`` with one impact on each wall near ``guess = (a, A, b, B)``
-    (module docstring); ``point`` holds its state at ``t = ticks T``."""
+    (module docstring); ``point`` holds its state at ``t = ticks T``.  ``unique``: also try
+    uniqueness in the state ball (``unique_in_point``; it holds on small boxes: the ball of a
+    wide one spans the orbit's motion over the box, and every orbit from it cannot enter one
+    impact box; ~1 ms a try)."""
     if box.has("damping"):
         raise ValueError("prove_two_impacts: the closed-form flights need damping = 0 on the box")
     if isinstance(guess, str) or len(guess) != 4:
@@ -223,7 +310,7 @@ def prove_two_impacts(box, guess, *, periods=1, ticks=Fraction(0), prec=BOX_PREC
     ticks = Fraction(ticks)
     phase = ticks - (ticks.numerator // ticks.denominator)
     with workprec(prec):
-        proof = _prove(box, [from_number(g).mid() for g in guess], periods, ticks, prec)
+        proof = _prove(box, [from_number(g).mid() for g in guess], periods, ticks, prec, unique)
     proof.phase, proof.box, proof.seconds = phase, box, time.perf_counter() - start
     return proof
 
@@ -233,7 +320,25 @@ def _fail(box, periods, prec, reason, hint=None, radii=()):
                             impact_radii=tuple(radii))
 
 
-def _prove(box, u, m, ticks, prec):
+def _jacobian(u, rho, P, m):
+    """``G_u`` enclosed over ``U = u +- rho`` and the parameter balls ``P``."""
+    return arb_mat([[g.d[j] for j in range(4)] for g in _jets([arb(c, r) for c, r in zip(u, rho)], P, m)])
+
+
+def _unique_in_state(u, head, C, P, m, rho, ticks, state) -> bool:
+    """Whether the orbit is the only fixed point of ``Phi^m`` in the state ball, for every
+    parameter: some impact box ``U = u +- s rho`` (``s`` in ``UNIQUE_SCALES``) passes the
+    Krawczyk test (one zero of ``G`` in it) and every orbit from the ball enters it
+    (:func:`every_orbit_enters`)."""
+    for scale in UNIQUE_SCALES:
+        wide = [r * scale for r in rho]
+        if (krawczyk(u, head, C, _jacobian(u, wide, P, m), wide)[1]
+                and every_orbit_enters([arb(c, r) for c, r in zip(u, wide)], P, m, ticks, state)):
+            return True
+    return False
+
+
+def _prove(box, u, m, ticks, prec, unique):
     P, Pm = _params(box), _params(box.midpoint() if hasattr(box, "midpoint") else box)
     try:
         u = polish(u, Pm, m, prec)
@@ -249,11 +354,7 @@ def _prove(box, u, m, ticks, prec):
     weight = [max(float((abs(CD[k, j]) * abs(dp[j])).upper()) for k in range(4)) for j in range(len(NAMES))]
     hint = NAMES[max(range(len(NAMES)), key=weight.__getitem__)]
     floor = [(abs(c) + 1) * arb(2) ** (-prec // 2) for c in u]
-
-    def jacobian(rho):
-        return arb_mat([[g.d[j] for j in range(4)] for g in _jets([arb(c, r) for c, r in zip(u, rho)], P, m)])
-
-    K, rho, why = inflate(u, head, C, jacobian, floor)
+    K, rho, why = inflate(u, head, C, lambda rho: _jacobian(u, rho, P, m), floor)
     radii = [float(r) for r in rho]
     if K is None:
         return _fail(box, m, prec, why, hint, radii)
@@ -263,6 +364,7 @@ def _prove(box, u, m, ticks, prec):
         why = state if isinstance(state, str) else None
     if why is not None:
         return _fail(box, m, prec, why, hint, radii)
+    unique = unique and _unique_in_state(u, head, C, P, m, rho, ticks, state)
     tr, det = monodromy(K, P, Pm, m)
     kinds = ["impact", "impact"]
     kind, stability, mults = classify(box, tr, det, kinds)
@@ -270,4 +372,4 @@ def _prove(box, u, m, ticks, prec):
                             multipliers=mults, trace=tr, det=det, kind=kind, stability=stability,
                             itinerary=kinds, prec=prec, box=box,
                             radii=tuple(float(s.rad()) for s in state), impacts=tuple(K),
-                            impact_radii=tuple(radii), split=hint)
+                            impact_radii=tuple(radii), split=hint, unique_in_point=unique)

@@ -77,6 +77,15 @@ def cuts(phase, periods, times, pieces=PIECES):
     return out + [phase + periods]
 
 
+def krawczyk(z, head, C, DF, rho):
+    """``(K, inside)``: ``K = z - head + (I - C DF) (Z - z)`` for ``Z = z +- rho`` (``DF``
+    enclosing the derivative over ``Z``), and whether it lies in the interior of ``Z``."""
+    N = len(z)
+    tail = ((_identity(N) - C * DF) * _vec([arb(0, r) for r in rho])).entries()
+    K = [z[k] - head[k, 0] + tail[k] for k in range(N)]
+    return K, all(arb(z[k], rho[k]).contains_interior(K[k]) for k in range(N))
+
+
 def inflate(z, head, C, jacobian, floor):
     """The Krawczyk test with epsilon-inflation: ``Z = z +- rho``, ``rho`` from
     ``2 |head| + floor``, ``K = z - head + (I - C DF(Z)) (Z - z)`` (``head`` encloses
@@ -92,9 +101,8 @@ def inflate(z, head, C, jacobian, floor):
         DF = jacobian(rho)
         if isinstance(DF, str):
             return None, rho, DF
-        tail = ((_identity(N) - C * DF) * _vec([arb(0, r) for r in rho])).entries()
-        K = [z[k] - head[k, 0] + tail[k] for k in range(N)]
-        if all(arb(z[k], rho[k]).contains_interior(K[k]) for k in range(N)):
+        K, inside = krawczyk(z, head, C, DF, rho)
+        if inside:
             return K, rho, None
         rho = [max((2 * abs(K[k] - z[k])).upper(), rho[k]) for k in range(N)]
         if not all(g.is_finite() for g in rho):
