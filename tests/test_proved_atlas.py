@@ -80,7 +80,7 @@ def test_random_parameters_of_proved_boxes_land_in_their_balls(window):
 
 #: issue 26's goal: the share of the boxes wholly inside a claim's numerical region (and off the
 #: closed form's tr = -2 curve, where the elliptic claims are false: tr = -2 exactly) that are
-#: proved.  One run of the 32 x 32 atlas in impact coordinates (64 s on 2 workers): x1 401/408,
+#: proved.  One run of the 32 x 32 atlas in impact coordinates (69 s on 2 workers): x1 401/408,
 #: x2 475/475, period 3 22/22; in multiple shooting (1494 s): 380/408, 350/475, 5/22.
 GOAL = 0.9
 
