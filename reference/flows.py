@@ -109,10 +109,14 @@ class CosineForcing:
         ``phi in (-alpha, alpha) mod 2 pi``.  At ``phi = 2 pi - alpha`` the force is rising
         through the level (leave now); at ``phi = alpha`` it is falling (stay).  Phases
         within the phase noise of a boundary count as on it (no stick/slip ping-pong).
-        Returns ``None`` if the force never exceeds the level.
+        Returns ``None`` if the force never exceeds the level.  Under position forcing an
+        amplitude ``F cos(k x)`` within its rounding noise of 0 is 0 (a rest where
+        ``cos(k x) = 0``, e.g. at a wall ``k x = pi/2``: the force vanishes for all time, and a
+        frictionless particle there stays; rounding must not make it leave and land again).
         """
         b = sigma * self.amplitude(x)
-        if abs(b) <= level:
+        noise = 0 if self.k is None else self.F * mpmath.ldexp(abs(self.k * x) + 8, -mpmath.mp.prec + NOISE_BITS)
+        if abs(b) <= level + noise:
             return None
         alpha = mpmath.acos(level / abs(b))
         theta = self.w * t + (0 if b > 0 else mpmath.pi)

@@ -13,6 +13,7 @@ import mpmath
 import pytest
 from hypothesis import given, strategies as st
 
+import reference
 from cross_check.tolerances import tol
 from reference import taylor
 from reference.scene import Scene
@@ -184,6 +185,22 @@ def test_rest_set_of_xpot():
             assert inside == (worst <= mpmath.mpf("0.1"))
     assert taylor.equilibrium_intervals(XPOT.replace(f=2)) == [(-1, 1)]
     assert taylor.equilibrium_intervals(XPOT.replace(wavenumber=None)) == []
+
+
+@pytest.mark.parametrize("wall", [-1, 1])
+def test_a_frictionless_rest_where_the_force_vanishes_stays(wall):
+    """f = 0 and cos(pi x/2) = 0 at both walls: a particle at rest on a wall feels no force at
+    any time, so it stays (an equilibrium of x'' = F cos(k x) cos(w t)).  The force's rounding
+    noise (~1e-40 at 30 digits, of either sign) once made the reference leave the wall and land
+    again at the same instant until its loop bound raised ("no progress in time")."""
+    sc = XPOT.replace(f=0)
+    log = reference.trajectory(sc, wall, 0, 3, dps=30)
+    assert (log.x_end, log.v_end) == (wall, 0)
+    assert [e.kind for e in log] == ["contact"]
+    x, v = reference.stroboscopic_map(sc, wall, 0, periods=3, dps=30)
+    assert (x, v) == (wall, 0)
+    # an interior start where the force does not vanish still moves
+    assert reference.stroboscopic_map(sc, wall * mpmath.mpf("0.5"), 0, dps=30)[1] != 0
 
 
 def test_bad_input():
