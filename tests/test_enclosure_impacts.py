@@ -297,3 +297,16 @@ def test_the_crossing_narrows_an_off_centre_window(x1_point):
         window = span(tau - arb("0.01"), tau + arb("0.05"))
         theta = I._crossing(ts, *proof.point, 1, p[5], window, p)
         assert theta.contains(tau) and theta.rad() < 1e-3
+
+
+def test_a_box_proof_holds_the_point_proofs_at_its_corners_and_centre():
+    """One impact proof over a whole box, against ``prove_periodic`` (the walk, Table 1) at its
+    four corners and its centre: the box's balls contain the points' balls."""
+    box = ParamBox(F=1, f=("0.3125", "0.34375"), omega=1, l=0, r=("62", "66"))
+    p, ticks = prove(box, 2)
+    assert p.proved and p.kind == "saddle"
+    corners = [box.point(f=f, r=r) for f in (box.lo("f"), box.hi("f")) for r in (box.lo("r"), box.hi("r"))]
+    for sc in corners + [box.midpoint()]:
+        q = prove_periodic(sc, *guess(2, 1, ticks)(sc), phase=ticks)
+        assert q.proved and q.kind == "saddle"
+        assert all(a.contains(b) for a, b in zip(p.point, q.point)) and p.trace.contains(q.trace), sc
