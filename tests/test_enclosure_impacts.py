@@ -20,7 +20,7 @@ from reference.enclosure import ParamBox, prove_periodic
 from reference.enclosure import impacts as I
 from reference.enclosure.balls import from_number, span, workprec
 from reference.enclosure.branches import common_ticks, guess, section_ticks, symmetric_cover
-from reference.enclosure.jets import Jet
+from reference.enclosure.dual import Dual
 from tests.test_enclosure_boxes import inside, reference_fixed_point
 
 #: x2 where its impacts are slow (0.2 - 0.4): the stroboscopic proof needed > 512 sub-boxes here
@@ -39,16 +39,16 @@ def prove(box, branch, m=1):
     return I.prove_two_impacts(box, impact_guess(box, branch, m), periods=m, ticks=ticks), ticks
 
 
-def test_jets_carry_exact_derivatives():
+def test_dual_numbers_carry_exact_derivatives():
     with workprec(128):
-        x, y = Jet.variable(arb("0.7"), 0, 2), Jet.variable(arb("1.3"), 1, 2)
+        x, y = Dual.variable(arb("0.7"), 0, 2), Dual.variable(arb("1.3"), 1, 2)
         g = (x * y).sin() / (2 - x.cos()) - 3 * y
         # d/dx and d/dy of sin(xy)/(2 - cos x) - 3y, by hand
         xv, yv = arb("0.7"), arb("1.3")
         s, c, den = (xv * yv).sin(), (xv * yv).cos(), 2 - xv.cos()
         dx = (yv * c * den - s * xv.sin()) / den ** 2
         dy = xv * c / den - 3
-        assert g.d[0].overlaps(dx) and g.d[1].overlaps(dy) and g.d[0].rad() < 1e-30
+        assert g.grad[0].overlaps(dx) and g.grad[1].overlaps(dy) and g.grad[0].rad() < 1e-30
 
 
 @pytest.mark.parametrize("branch, m, fF, R", [(1, 1, "0.3", "20"), (2, 1, "0.3", "3"), (1, 3, "0.08", "45")])

@@ -32,8 +32,8 @@ for every parameter of the box at once: the same itinerary, the Krawczyk inclusi
 multipliers (``boxes``: the parametric Krawczyk operator in multiple-shooting form,
 ``shooting``; ``sensitivity`` and ``centred``: derivatives in the parameters and mean-value
 enclosures that keep a wide box tight).  ``impacts`` proves the paper's two-impact orbits in
-impact coordinates (the impact phases and speeds as unknowns, closed-form flights, ``jets``
-for the derivatives): no ``1/V`` blow-up where the impacts are slow.  ``continuation`` covers
+impact coordinates (the impact phases and speeds as unknowns, closed-form flights, ``dual``
+numbers for the derivatives): no ``1/V`` blow-up where the impacts are slow.  ``continuation`` covers
 a box by sub-boxes and an interval by a chain of boxes (rigorous continuation).  A point box
 is its scene: the point API is unchanged.
 
@@ -42,7 +42,7 @@ rests on balls, event functions), ``series`` (the position-forced flight's Taylo
 coefficients on balls), ``lohner`` (validated flights), ``certify`` (exclusion and Krawczyk
 roots), ``walk`` (the itinerary, event by event, chatter tails), ``maps`` (``enclose_map``),
 ``orbits`` (``prove_periodic``); over parameter boxes ``params``, ``sensitivity``, ``centred``,
-``shooting``, ``boxes``, ``jets``, ``impacts``, ``continuation``, ``branches``.
+``shooting``, ``boxes``, ``dual``, ``impacts``, ``continuation``, ``branches``.
 """
 from reference.enclosure.certify import Unproved
 from reference.enclosure.impacts import prove_two_impacts

@@ -19,7 +19,7 @@ the impact at ``l`` and the speed ``A > 0`` it arrives with, the phase ``b`` of 
 the equations ``G(u, p) = 0`` are: the up-flight from ``(l, e A)`` at phase ``a`` reaches
 ``(r, B)`` at phase ``b``, and the down-flight from ``(r, -e B)`` at ``b`` reaches
 ``(l, -A)`` at ``a + 2 pi m``.  ``G`` and its derivatives are evaluated on balls by first-order
-jets (``jets``).  The parametric Krawczyk operator (``shooting.inflate``, with its
+dual numbers (``dual``).  The parametric Krawczyk operator (``shooting.inflate``, with its
 epsilon-inflation)
 
     K = u~ - C G(u~, p~) - (C G_p(u~, B)) (B - p~) + (I - C G_u(U, B)) (U - u~)
@@ -54,11 +54,11 @@ from flint import arb, arb_mat
 
 from reference.enclosure.balls import BallModel, from_fraction, from_number, workprec
 from reference.enclosure.boxes import BOX_PREC, NEWTON_STEPS, BoxOrbitProof
-from reference.enclosure.jets import Jet
+from reference.enclosure.dual import Dual
 from reference.enclosure.kinds import classify
 from reference.enclosure.shooting import inflate, krawczyk
 
-#: the parameters in the jets' order (after the four unknowns)
+#: the parameters in the dual numbers' order (after the four unknowns)
 NAMES = ("F", "f", "omega", "restitution", "l", "r")
 #: pieces of one flight the velocity-sign proof may use
 SIGN_PIECES = 2048
@@ -79,7 +79,7 @@ class ImpactOrbitProof(BoxOrbitProof):
 
 def flight(t0, x0, u0, s, t, F, f, w):
     """``(x, v)`` at phase ``t`` of the flight from ``(x0, u0)`` at phase ``t0`` with
-    ``sgn x' = s`` (module docstring); balls or jets."""
+    ``sgn x' = s`` (module docstring); balls or dual numbers."""
     d = (t - t0) / w
     x = x0 + u0 * d - F / (w * w) * (t.cos() - t0.cos()) - F / w * t0.sin() * d - s * f * d * d / 2
     v = u0 + F / w * (t.sin() - t0.sin()) - s * f * d
@@ -87,7 +87,7 @@ def flight(t0, x0, u0, s, t, F, f, w):
 
 
 def equations(u, p, m):
-    """``G(u, p)`` (module docstring), four balls or jets."""
+    """``G(u, p)`` (module docstring), four balls or dual numbers."""
     a, A, b, B = u
     F, f, w, e, l, r = p
     x_up, v_up = flight(a, l, e * A, 1, b, F, f, w)
@@ -95,10 +95,10 @@ def equations(u, p, m):
     return [x_up - r, v_up - B, x_dn - l, v_dn + A]
 
 
-def _jets(u, p, m):
+def _duals(u, p, m):
     n = len(u) + len(p)
-    return equations([Jet.variable(x, i, n) for i, x in enumerate(u)],
-                     [Jet.variable(x, len(u) + i, n) for i, x in enumerate(p)], m)
+    return equations([Dual.variable(x, i, n) for i, x in enumerate(u)],
+                     [Dual.variable(x, len(u) + i, n) for i, x in enumerate(p)], m)
 
 
 def _params(scene):
@@ -110,9 +110,9 @@ def polish(u, p, m, prec):
     """Newton on midpoints for ``G(., p) = 0`` (``p`` the midpoint's balls)."""
     tol = arb(2) ** (20 - prec)
     for _ in range(NEWTON_STEPS):
-        G = _jets(u, p, m)
-        J = arb_mat([[g.d[j] for j in range(4)] for g in G]).mid()
-        step = J.solve(arb_mat([[g.v.mid()] for g in G]))
+        G = _duals(u, p, m)
+        J = arb_mat([[g.grad[j] for j in range(4)] for g in G]).mid()
+        step = J.solve(arb_mat([[g.val.mid()] for g in G]))
         u = [(u[i] - step[i, 0]).mid() for i in range(4)]
         if all(abs(step[i, 0]) < tol * (1 + abs(u[i])) for i in range(4)):
             break
@@ -129,7 +129,7 @@ def _one_sign(v_of, sign) -> bool:
         if used > SIGN_PIECES:
             return False
         c, h = (lo + hi) / 2, (hi - lo) / 2
-        slope = v_of(Jet.variable(from_fraction(c) + arb(0, from_fraction(h)), 0, 1)).d[0]
+        slope = v_of(Dual.variable(from_fraction(c) + arb(0, from_fraction(h)), 0, 1)).grad[0]
         value = sign * (v_of(from_fraction(c)) + slope * arb(0, from_fraction(h)))
         if not value > 0:
             work += [(lo, c), (c, hi)]
@@ -262,7 +262,7 @@ def _mul(X, Y):
 def trace(u, p, m):
     """``tr (Phi^m)'`` along the orbit with impacts ``u`` (module docstring): the saltation
     matrix ``[[-e, 0], [(a+ + e a-)/v-, -e]]`` at each impact, ``[[1, d], [0, 1]]`` for each
-    flight (``tr`` does not depend on the section: a cyclic product); balls or jets."""
+    flight (``tr`` does not depend on the section: a cyclic product); balls or dual numbers."""
     a, A, b, B = u
     F, f, w, e, _, _ = p
 
@@ -282,16 +282,16 @@ def monodromy(K, p, pm, m):
     trace in centred form about ``(mid K, pm)`` (``pm`` the midpoint parameters), intersected
     with its direct enclosure; ``det = e^4`` (two impacts, flights of determinant 1)."""
     centre = [k.mid() for k in K]
-    grad = _trace_jets(K, p, m).d
+    grad = _trace_duals(K, p, m).grad
     offsets = [k - c for k, c in zip(K, centre)] + [x - y for x, y in zip(p, pm)]
     centred = trace(centre, pm, m) + sum((g * o for g, o in zip(grad, offsets)), arb(0))
     return centred.intersection(trace(K, p, m)), p[3] ** 4
 
 
-def _trace_jets(u, p, m):
+def _trace_duals(u, p, m):
     n = len(u) + len(p)
-    return trace([Jet.variable(x, i, n) for i, x in enumerate(u)],
-                 [Jet.variable(x, len(u) + i, n) for i, x in enumerate(p)], m)
+    return trace([Dual.variable(x, i, n) for i, x in enumerate(u)],
+                 [Dual.variable(x, len(u) + i, n) for i, x in enumerate(p)], m)
 
 
 def prove_two_impacts(box, guess, *, periods=1, ticks=Fraction(0), prec=BOX_PREC,
@@ -322,7 +322,7 @@ def _fail(box, periods, prec, reason, hint=None, radii=()):
 
 def _jacobian(u, rho, P, m):
     """``G_u`` enclosed over ``U = u +- rho`` and the parameter balls ``P``."""
-    return arb_mat([[g.d[j] for j in range(4)] for g in _jets([arb(c, r) for c, r in zip(u, rho)], P, m)])
+    return arb_mat([[g.grad[j] for j in range(4)] for g in _duals([arb(c, r) for c, r in zip(u, rho)], P, m)])
 
 
 def _unique_in_state(u, head, C, P, m, rho, ticks, state) -> bool:
@@ -342,15 +342,15 @@ def _prove(box, u, m, ticks, prec, unique):
     P, Pm = _params(box), _params(box.midpoint() if hasattr(box, "midpoint") else box)
     try:
         u = polish(u, Pm, m, prec)
-        at_mid = _jets(u, Pm, m)
-        C = arb_mat([[g.d[j] for j in range(4)] for g in at_mid]).mid().inv().mid()
+        at_mid = _duals(u, Pm, m)
+        C = arb_mat([[g.grad[j] for j in range(4)] for g in at_mid]).mid().inv().mid()
     except ZeroDivisionError:
         return _fail(box, m, prec, "G_u is singular at the midpoint: the orbit is not isolated "
                                    "(the fold itself)")
-    over_box = _jets(u, P, m)
+    over_box = _duals(u, P, m)
     dp = [P[j] - Pm[j] for j in range(len(NAMES))]
-    CD = C * arb_mat([[g.d[4 + j] for j in range(len(NAMES))] for g in over_box])
-    head = C * arb_mat([[g.v] for g in at_mid]) + CD * arb_mat([[x] for x in dp])
+    CD = C * arb_mat([[g.grad[4 + j] for j in range(len(NAMES))] for g in over_box])
+    head = C * arb_mat([[g.val] for g in at_mid]) + CD * arb_mat([[x] for x in dp])
     weight = [max(float((abs(CD[k, j]) * abs(dp[j])).upper()) for k in range(4)) for j in range(len(NAMES))]
     hint = NAMES[max(range(len(NAMES)), key=weight.__getitem__)]
     floor = [(abs(c) + 1) * arb(2) ** (-prec // 2) for c in u]
