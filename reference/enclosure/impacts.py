@@ -79,7 +79,13 @@ class ImpactOrbitProof(BoxOrbitProof):
 
 def flight(t0, x0, u0, s, t, F, f, w):
     """``(x, v)`` at phase ``t`` of the flight from ``(x0, u0)`` at phase ``t0`` with
-    ``sgn x' = s`` (module docstring); balls or dual numbers."""
+    ``sgn x' = s`` (module docstring); balls or dual numbers.
+
+    The closed form of ``motion.Flight``, written in the absolute phases (``cos t - cos t0``)
+    rather than in the elapsed time (``C0 (1 - cos theta) - S0 (theta - sin theta)``): here
+    both phases are unknowns of the Krawczyk box, and this form keeps ``G_u`` over it tighter.
+    With ``motion.Flight`` an x1 box took 215 sub-boxes instead of 71, and a period-3 box was
+    not proved in 512 (142 here)."""
     d = (t - t0) / w
     x = x0 + u0 * d - F / (w * w) * (t.cos() - t0.cos()) - F / w * t0.sin() * d - s * f * d * d / 2
     v = u0 + F / w * (t.sin() - t0.sin()) - s * f * d
