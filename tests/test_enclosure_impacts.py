@@ -310,3 +310,19 @@ def test_a_box_proof_holds_the_point_proofs_at_its_corners_and_centre():
         q = prove_periodic(sc, *guess(2, 1, ticks)(sc), phase=ticks)
         assert q.proved and q.kind == "saddle"
         assert all(a.contains(b) for a, b in zip(p.point, q.point)) and p.trace.contains(q.trace), sc
+
+
+@pytest.mark.parametrize("e, fF, R, branch, kind", [("0.9", "0.2", "20", 1, "attracting focus"),
+                                                    ("0.95", "0.3", "10", 2, "saddle")])
+def test_restitution_below_1_agrees_with_the_stroboscopic_point_proof(e, fF, R, branch, kind):
+    """``e < 1`` enters the equations (``e A``, ``-e B``) and the saltation matrices
+    (``det = e^4``): against ``prove_periodic`` at the same point, from the ``e = 1`` closed
+    form's impacts as the guess (the closed form is for ``e = 1`` only)."""
+    box = ParamBox(F=1, f=fF, omega=1, l=0, r=R, restitution=e)
+    base = box.replace(restitution=1)
+    ticks = section_ticks(base.midpoint(), branch)
+    p = I.prove_two_impacts(box, impact_guess(base, branch), ticks=ticks)
+    q = prove_periodic(box, p.point[0].mid(), p.point[1].mid(), phase=ticks)
+    assert p.proved and q.proved and p.kind == q.kind == kind
+    assert all(a.overlaps(b) for a, b in zip(p.point, q.point)) and p.trace.overlaps(q.trace)
+    assert p.det.overlaps(q.det) and abs(float(p.det.mid()) - float(Fraction(e)) ** 4) < 1e-15
