@@ -140,8 +140,8 @@ class BallModel:
         self.T = 2 * arb.pi() / self.w
         self.friction = scene.has("friction")
         #: a parameter box with f in [0, hi]: frictionless and friction scenes together (the
-        #: walk refuses sticking there: ``reference.enclosure.params``)
-        self.friction_mixed = bool(self.f.contains(0)) and not self.f.is_zero()
+        #: walk refuses sticking there: ``ParamBox.friction_mixed``; a scene never is)
+        self.friction_mixed = bool(getattr(scene, "friction_mixed", False))
         self.restitution = scene.has("restitution")
         self.damping = scene.has("damping")
         self.position_forcing = scene.has("position_forcing")
