@@ -44,17 +44,25 @@ MAX_EXTRA_DIGITS = 200
 MAX_DAMPING_RATIO = 128
 
 
+def scales(F, f, w, l, r, gap):
+    """``(x_scale, v_scale)``: the magnitudes against which absolute noise is measured, the
+    position scale ``max(|l|, |r|, r - l, F/w^2)`` and the velocity scale
+    ``F/w + (r - l) w + f T`` (``T = 2 pi / w``; ``gap = r - l``)."""
+    return max(abs(l), abs(r), gap, F / w ** 2), F / w + gap * w + f * (2 * mpmath.pi / w)
+
+
 def scale_ratios(scene):
-    """``[(ratio, what)]``: the scene's scales over the quantities the noise floors must
-    resolve (at the current precision): the position scale ``max(|l|, |r|, F/w^2)`` over the
-    gap and, where a resting particle moves with friction (``F > f > 0``), the velocity scale
-    ``F/w + (r - l) w + f T`` over the forcing's velocity ``F/w``."""
+    """``[(ratio, what)]``: the scene's scales (:func:`scales`) over the quantities the noise
+    floors must resolve (at the current precision): the position scale over the gap and,
+    where a resting particle moves with friction (``F > f > 0``), the velocity scale over the
+    forcing's velocity ``F/w``."""
     F, f, w = scene.mpf("F"), scene.mpf("f"), scene.mpf("omega")
     l, r, gap = scene.mpf("l"), scene.mpf("r"), scene.gap()
-    out = [(max(abs(l), abs(r), gap, F / w ** 2) / gap,
+    x_scale, v_scale = scales(F, f, w, l, r, gap)
+    out = [(x_scale / gap,
             "the gap r - l (from l, r) against the position scale max(|l|, |r|, F/omega^2)")]
     if F > f > 0:
-        out.append(((F / w + gap * w + f * 2 * mpmath.pi / w) / (F / w),
+        out.append((v_scale / (F / w),
                     "the forcing's velocity F/omega (from F, omega) against the velocity scale "
                     "F/omega + (r - l) omega + f T"))
     return out
@@ -120,8 +128,7 @@ class Model:
         self.position_forcing = scene.has("position_forcing")
         self.eps = mpmath.ldexp(1, -mpmath.mp.prec + flows.NOISE_BITS)
         gap = self.r - self.l
-        self.x_scale = max(abs(self.l), abs(self.r), gap, self.F / self.w ** 2)
-        self.v_scale = self.F / self.w + gap * self.w + self.f * self.T
+        self.x_scale, self.v_scale = scales(self.F, self.f, self.w, self.l, self.r, gap)
         self.a_scale = self.F + self.f + gap * self.w ** 2
         if self.c > MAX_DAMPING_RATIO * self.w:
             raise ValueError(
