@@ -121,6 +121,30 @@ def test_report_renders_one_row_per_registered_claim():
     assert seen == ["claim fold: reproduced", "claim broken: FAILED"]
 
 
+def test_the_report_runs_its_claims_in_a_worker_process_or_in_line(monkeypatch):
+    """The claims run in one spawned process beside the untimed sections; where no process can
+    be started they run in line, with the same rows."""
+    import importlib
+
+    build = importlib.import_module("cross_check.report.build")     # the package exports build()
+
+    fake = {"fold": _FakeClaim({"id": "fold", "statement": "s", "verdict": "reproduced",
+                                "corrected": None, "numbers": {}})}
+    seen = []
+    pool, future = build._claims_process(True, seen.append, fake)
+    with pool:
+        lines, seconds = future.result(timeout=120)
+    assert lines[2].startswith("| fold | reproduced | s |  | quick | ") and seconds >= 0
+    assert seen == []                     # the worker's progress went to its own stderr
+
+    def refuse(*args, **kwargs):
+        raise OSError("no processes here")
+
+    monkeypatch.setattr(build, "ProcessPoolExecutor", refuse)
+    assert build._claims_process(True, seen.append, fake) == (None, None)
+    assert "they run in line" in seen[-1]
+
+
 def test_report_iterates_the_claims_registry():
     from cross_check.paper.claims import CLAIMS
     from cross_check.report import sections

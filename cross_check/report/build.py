@@ -11,7 +11,8 @@ section (``sections``, ``precision``, ``plots``):
 3. work-precision: digits against seconds per trajectory-period for every method, with the
    one-ulp floor;
 4. where solve_ivp misses events;
-5. the paper's claims, one registered claim at a time (``cross_check.paper.claims.CLAIMS``);
+5. the paper's claims, one registered claim at a time (``cross_check.paper.claims.CLAIMS``), in
+   one worker process beside sections 1-2 (collected before 3, whose timings want both cores);
 6. where the claims hold: the atlas's maps (``python -m cross_check atlas``) when one exists;
 7. machine, versions, seeds, timings.
 
@@ -22,8 +23,11 @@ a minute on two cores, ``--quick`` about 10 s.
 from __future__ import annotations
 
 import dataclasses
+import multiprocessing
 import pathlib
 import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
 from cross_check import scenefile, scenes
@@ -69,10 +73,32 @@ def _guarded(progress, errors: list, what: str, fn, *args):
         return None
 
 
+def _claims_timed(quick: bool, progress, claims=None) -> tuple[list, float]:
+    """The claims section (``claims``: the registry by default) and its wall time (run in a
+    worker process: :func:`_measure`)."""
+    t0 = time.perf_counter()
+    return sections.claims_section(quick, progress, claims), time.perf_counter() - t0
+
+
+def _claims_process(quick: bool, progress, claims=None):
+    """The claims section started in one spawned worker process, so that it shares the two
+    cores with the agreement and hard-case sections (which time nothing); ``(pool, future)``,
+    or ``(None, None)`` where no process can be started (the claims then run in line)."""
+    try:
+        pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
+        return pool, pool.submit(_claims_timed, quick, progress, claims)
+    except (OSError, RuntimeError) as exc:
+        progress(f"claims: no worker process ({type(exc).__name__}: {exc}); they run in line")
+        return None, None
+
+
 def _measure(plan: Plan, out: pathlib.Path, claims: bool, quick: bool, progress,
              atlas_dir="atlas") -> tuple[dict, dict, list]:
-    """Run every section; return ``(markdown pieces, timings, errors)``."""
+    """Run every section; return ``(markdown pieces, timings, errors)``.  The claims run in a
+    worker process beside the agreement and hard cases, and are collected before the
+    work-precision section, whose timings must have the machine to themselves."""
     timings, errors, parts = {}, [], {}
+    pool, claims_future = _claims_process(quick, progress) if claims else (None, None)
     agreement = {}
     for name in plan.scenes:
         agreement[name] = _guarded(progress, errors, f"agreement {name}", sections.scene_agreement,
@@ -85,6 +111,16 @@ def _measure(plan: Plan, out: pathlib.Path, claims: bool, quick: bool, progress,
         hard += _guarded(progress, errors, f"hard cases {name}", sections.hard_case_rows, name) or []
         progress(f"hard cases: {name}")
     parts["hard"], timings["hard cases"] = sections.hard_table(hard), progress.lap()
+    parts["claims"] = ["(skipped: `--skip-claims`)"]
+    if claims:
+        if claims_future is None:
+            got = _claims_timed(quick, progress)
+        else:
+            with pool:
+                got = _guarded(progress, errors, "claims", claims_future.result)
+        if got is not None:
+            parts["claims"], timings["claims (in parallel)"] = got
+        timings["waiting for the claims"] = progress.lap()
     wp = _guarded(progress, errors, "work-precision", precision.work_precision, plan, progress)
     if wp is not None:
         plots.work_precision_plot(wp, out / "work_precision.png", TRUTH_DPS)
@@ -93,9 +129,7 @@ def _measure(plan: Plan, out: pathlib.Path, claims: bool, quick: bool, progress,
     parts["scipy"] = _guarded(progress, errors, "scipy itineraries", sections.scipy_itineraries,
                               plan.hard_scenes, plan.n_sample, progress) or []
     timings["scipy itineraries"] = progress.lap()
-    parts["claims"] = sections.claims_section(quick, progress) if claims else ["(skipped: `--skip-claims`)"]
     errors += [f"claim {line.split('|')[1].strip()}: FAILED" for line in parts["claims"] if "| FAILED |" in line]
-    timings["claims"] = progress.lap()
     parts["atlas"] = sections.atlas_section(atlas_dir, out)
     return parts, timings, errors
 
