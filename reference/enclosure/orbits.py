@@ -25,16 +25,15 @@ from __future__ import annotations
 import time
 from fractions import Fraction
 
-from flint import arb
+from flint import arb, arb_mat
 
 from reference.api import check_count
 from reference.enclosure.balls import DEFAULT_PREC, from_number, workprec
-from reference.enclosure.shooting import section
+from reference.enclosure.shooting import krawczyk, section
 from reference.enclosure.balls import span as span_ball
 from reference.enclosure.kinds import OrbitProof, classify
 from reference.enclosure.maps import enclose_map
 from reference.enclosure.params import ParamBox
-from reference.jacobian import mat_mul
 
 #: Newton steps on the midpoints before the proof (each one enclosure of ``P`` at a point).
 NEWTON_STEPS = 30
@@ -128,17 +127,10 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid):
         fail.reason = ("det(P' - I) vanishes at the centre: the fixed point is not isolated "
                        "(a family of fixed points), which no Krawczyk box can single out")
         return fail
-    C = _mid(_inverse(M))
-    residual = [enc_mid.phi[0] - z[0], enc_mid.phi[1] - z[1]]
-    JZ = _mat_sub_identity(box.jacobian)
-    CJ = mat_mul(C, JZ)
-    B = [[(1 if i == j else 0) - CJ[i][j] for j in range(2)] for i in range(2)]
-    dz = [arb(0, r), arb(0, r)]
-    head = _matvec(C, residual)
-    tail = _matvec(B, dz)
-    K = [z[i] - head[i] + tail[i] for i in range(2)]
-    Z = [arb(z[i], r) for i in range(2)]
-    if not all(Z[i].contains_interior(K[i]) for i in range(2)):
+    C = arb_mat(_mid(_inverse(M)))
+    head = C * arb_mat([[enc_mid.phi[0] - z[0]], [enc_mid.phi[1] - z[1]]])
+    K, inside = krawczyk(z, head, C, arb_mat(_mat_sub_identity(box.jacobian)), [r, r])
+    if not inside:
         fail.reason = (f"K(Z) is not inside Z (radius {float(r):.1e}): |K - z| = "
                        f"{[float(abs(K[i] - z[i]).upper()) for i in range(2)]}")
         return fail
