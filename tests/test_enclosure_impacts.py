@@ -326,3 +326,17 @@ def test_restitution_below_1_agrees_with_the_stroboscopic_point_proof(e, fF, R, 
     assert p.proved and q.proved and p.kind == q.kind == kind
     assert all(a.overlaps(b) for a, b in zip(p.point, q.point)) and p.trace.overlaps(q.trace)
     assert p.det.overlaps(q.det) and abs(float(p.det.mid()) - float(Fraction(e)) ** 4) < 1e-15
+
+
+def test_an_asymmetric_period_2_orbit_agrees_with_the_stroboscopic_point_proof():
+    """Two impacts in two periods with flights of unequal length (d1 = 0.90 T, d2 = 1.10 T:
+    found by Newton on the impact equations from a guess with unequal flights), against
+    ``prove_periodic`` on ``Phi^2``: on the symmetric orbits the two flights' lengths are equal,
+    and an exchange of them would go unseen."""
+    box = ParamBox(F=1, f="0.1", omega=1, l=0, r=10)
+    p = I.prove_two_impacts(box, ("-2.6426", "1.5585", "2.9913", "1.6234"), periods=2, ticks=0)
+    a, A, b, B = p.impacts
+    assert p.proved and abs(float((b - a).mid()) / (2 * mpmath.pi) - 0.897) < 1e-3
+    q = prove_periodic(box, p.point[0].mid(), p.point[1].mid(), periods=2, phase=0)
+    assert q.proved and q.itinerary == ["impact", "impact"] and p.kind == q.kind == "saddle"
+    assert all(x.overlaps(y) for x, y in zip(p.point, q.point)) and p.trace.overlaps(q.trace)

@@ -33,9 +33,9 @@ one sign makes the closed form the motion (no turn, no stop: Filippov sticking n
 ``x' = 0``) and ``x`` monotone, so neither wall is touched in between.
 
 From ``K``: the state at the section ``t = ticks T`` (in the flight that provably contains it),
-and the monodromy ``tr(S_l Fl(d_2) S_r Fl(d_1))`` (flight factor ``[[1, d], [0, 1]]``, the
-impact's saltation matrix ``[[-e, 0], [(a+ + e a-)/v-, -e]]``, ``a-+`` the accelerations before
-and after); its determinant is ``e^4``.
+and the monodromy ``tr(S_l Fl(d_2) S_r Fl(d_1))`` (Table 1, ``reference.jacobian``: the flight
+factor ``[[1, d], [0, 1]]``, the impact's saltation matrix with the velocity before it); its
+determinant is ``e^4``.
 
 Uniqueness: one orbit whose impacts lie in ``U``, and -- ``unique_in_point`` -- one fixed
 point of ``Phi^m`` in the state ball ``S`` when every orbit from ``S`` provably hits the walls
@@ -49,6 +49,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 from fractions import Fraction
+from types import SimpleNamespace
 
 from flint import arb, arb_mat
 
@@ -57,6 +58,7 @@ from reference.enclosure.boxes import BOX_PREC, NEWTON_STEPS, BoxOrbitProof
 from reference.enclosure.dual import Dual
 from reference.enclosure.kinds import classify
 from reference.enclosure.shooting import inflate, krawczyk
+from reference.jacobian import flight_matrix, impact_matrix, mat_mul
 
 #: the parameters in the dual numbers' order (after the four unknowns)
 NAMES = ("F", "f", "omega", "restitution", "l", "r")
@@ -261,25 +263,21 @@ def every_orbit_enters(U, p, m, ticks, state) -> bool:
     return flies_to(t0, x0, u0, -legs[-1][1], ts + period, p)
 
 
-def _mul(X, Y):
-    return [[X[i][0] * Y[0][j] + X[i][1] * Y[1][j] for j in range(2)] for i in range(2)]
-
-
 def trace(u, p, m):
-    """``tr (Phi^m)'`` along the orbit with impacts ``u`` (module docstring): the saltation
-    matrix ``[[-e, 0], [(a+ + e a-)/v-, -e]]`` at each impact, ``[[1, d], [0, 1]]`` for each
-    flight (``tr`` does not depend on the section: a cyclic product); balls or dual numbers."""
+    """``tr (Phi^m)'`` along the orbit with impacts ``u`` (module docstring): Table 1's matrices
+    (``reference.jacobian``: the impact's saltation matrix with the velocity before it, and the
+    flight's), on balls or dual numbers; ``tr`` does not depend on the section (a cyclic
+    product)."""
     a, A, b, B = u
     F, f, w, e, _, _ = p
+    table = SimpleNamespace(e=e, f=f, one=1, zero=0, damping=False)    # what Table 1 reads
 
-    def salt(phase, v_before, s_before):
-        acc = F * phase.cos()
-        return [[-e, 0], [(acc + s_before * f + e * (acc - s_before * f)) / v_before, -e]]
+    def impact(phase, v_before):
+        return impact_matrix(table, F * phase.cos(), v_before)
 
-    def fl(d):
-        return [[1, d], [0, 1]]
-
-    M = _mul(_mul(salt(a, -A, -1), fl((a + 2 * m * arb.pi() - b) / w)), _mul(salt(b, B, 1), fl((b - a) / w)))
+    down, up = (a + 2 * m * arb.pi() - b) / w, (b - a) / w
+    M = mat_mul(mat_mul(impact(a, -A), flight_matrix(table, down)),
+                mat_mul(impact(b, B), flight_matrix(table, up)))
     return M[0][0] + M[1][1]
 
 
