@@ -14,6 +14,7 @@ import contextlib
 import logging
 import time
 
+
 class ClusterError(ValueError):
     """No cluster to run on: dask.distributed missing, or the scheduler unreachable (exit 2)."""
 
