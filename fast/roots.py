@@ -46,7 +46,7 @@ import math
 
 from . import params as p
 from . import state as q
-from .flight import evaluate
+from .flight import acceleration_hi, evaluate
 from .jit import kernel
 
 EPS = 2.0 ** -52
@@ -280,8 +280,7 @@ def _plan(P, st, dx, v, cs, sn, t_end, tol, crawl):
         st[q.C2], True, st[q.P2], False, math.inf, True)
     lazy = st[q.NFAIL] == 0.0 and not crawl         # after a refuted trial: every step
     lazy1 = lazy2 = False
-    g1 = n1 = g2 = n2 = 0.0
-    res1 = res2 = (0.0, 0.0, False, 0.0)
+    g1 = g2 = 0.0
     for _ in range(2):
         if do1:
             g1 = st[q.D0] - s * dx
@@ -372,7 +371,7 @@ def refine(P, st, b, t_end):
     for _ in range(REFINE_STEPS):
         h = (tt - st[q.T0]) - st[q.T0LO]
         dx, v, cs, sn = evaluate(P, h, st[q.V0], s, st[q.SN0], st[q.CS0])
-        a = s * (P[p.F] * cs) - P[p.FF] - P[p.DAMP] * (s * v)          # s x''
+        a = s * acceleration_hi(P, s, cs, v)                            # s x''
         if wall:
             g, g1, g2 = st[q.D0] - s * dx, -s * v, -a
         else:
