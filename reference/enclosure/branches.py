@@ -118,7 +118,7 @@ METHODS = ("shooting", "impacts")
 
 
 def symmetric_cover(box, branch, m=1, *, kind=None, ticks=None, max_leaves=64, prec=None,
-                    method="shooting", min_fraction=None):
+                    method="shooting"):
     """``continuation.cover`` of the symmetric orbit ``x_branch`` (period ``m``) over ``box``,
     at the section ``ticks`` (default :func:`section_ticks` at the box's midpoint), with
     :func:`claim_check` of ``kind``, each leaf proved by ``method`` (:data:`METHODS`).
@@ -132,13 +132,10 @@ def symmetric_cover(box, branch, m=1, *, kind=None, ticks=None, max_leaves=64, p
     ticks = section_ticks(mid, branch, m) if ticks is None else Fraction(ticks)
     if ticks is None:
         return None, f"no symmetric solution at the box's midpoint: f/F > 2/({m} pi)"
-    kw = {} if prec is None else {"prec": prec}
-    if min_fraction is not None:
-        kw["min_fraction"] = Fraction(min_fraction)
-    if method == "impacts":
-        kw["prove"] = lambda leaf, state: prove_two_impacts(leaf, state, periods=m, ticks=ticks, unique=False,
-                                                            **({} if prec is None else {"prec": prec}))
+    at = {} if prec is None else {"prec": prec}
+    prove = None if method == "shooting" else (
+        lambda leaf, state: prove_two_impacts(leaf, state, periods=m, ticks=ticks, unique=False, **at))
     got = cover(box, guess(branch, m, ticks, impacts=method == "impacts"),
                 phase=ticks - (ticks.numerator // ticks.denominator),
-                periods=m, accept=claim_check(kind), max_leaves=max_leaves, **kw)
+                periods=m, accept=claim_check(kind), max_leaves=max_leaves, prove=prove, **at)
     return got, ticks
