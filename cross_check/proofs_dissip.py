@@ -70,8 +70,11 @@ def box_record(m, leaf) -> dict:
     gap = m.r - m.l
     x_lo, x_hi = m.l + from_fraction(xi[0]) * gap, m.l + from_fraction(xi[1]) * gap
     t_lo, t_hi = from_fraction(phi[0]) * m.T, from_fraction(phi[1]) * m.T
+    tau_hi = _float_in(t_hi, False)
+    if phi[1] == 1:                   # tau in [0, T): below T's own float too
+        tau_hi = math.nextafter(min(tau_hi, float(m.T)), 0.0)
     return {"x": [_float_in(x_lo, True), _float_in(x_hi, False)],
-            "tau": [_float_in(t_lo, True), _float_in(t_hi, False)],
+            "tau": [_float_in(t_lo, True), tau_hi],
             "xi": [str(xi[0]), str(xi[1])], "phase": [str(phi[0]), str(phi[1])],
             "stuck": bool(res.stuck),
             "return_within": (0.0 if res.stuck else _bound_up(res.within)) if res.proved else None,
@@ -120,8 +123,9 @@ def decide(sc, *, max_boxes=MAX_BOXES, progress=print, search=True) -> dict:
                         cover_seconds=round(cov.seconds, 2))
     if not left:
         worst = max((b["return_within"] for b in rec["boxes"]), default=0.0)
-        rec.update(verdict="proved", reason=f"every rest state returns to rest within {worst:.6g} "
-                                            f"<= T = {T:.6g} ({len(cov.leaves)} boxes)")
+        rec.update(verdict="proved", reason=f"every rest state (x, 0) at a time tau in [0, T) returns to "
+                                            f"rest by 2T, within {worst:.6g} (T = {T:.6g}; "
+                                            f"{len(cov.leaves)} boxes)")
     else:
         rec["reason"] = (f"{len(left)} of {len(cov.leaves)} boxes not proved (first: "
                          f"{left[0].result.reason}); no counterexample proved")

@@ -243,3 +243,19 @@ def log_perturbations(draw):
     where = draw(st.floats(0.0, 1.0, exclude_max=True))
     size = draw(st.sampled_from((1, -1))) * 10.0 ** draw(st.integers(-12, -2))
     return op, where, size
+
+
+# --- dissip-invariance: scenes for the return-to-rest cover (tests/test_dissip_invariance.py) ----
+@st.composite
+def rest_scenes(draw):
+    """A scene with every effect the cover supports: ``F`` of a few sizes, ``f/F`` in
+    ``(0, 1.2]`` (below and above the fold and ``F``), one of three ``omega``, a gap of
+    ``0.5 .. 6``, restitution ``e`` in ``(0, 1]``, damping 0 or up to ``0.2 omega``."""
+    F = draw(st.sampled_from(("1", "0.5", "3")))
+    f = f"{draw(decimals(0.05, 1.2, 3))}*{F}"
+    omega = draw(st.sampled_from(("1", "2*pi", "0.7")))
+    l = draw(decimals(-1.0, 1.0, 2))
+    gap = draw(decimals(0.5, 6.0, 2))
+    e = draw(st.sampled_from(("1", "0.9", "0.5")))
+    c = draw(st.sampled_from(("0", "0", f"0.2*{omega}")))
+    return Scene(F=F, f=f, omega=omega, l=l, r=f"{l}+{gap}", restitution=e, damping=c)

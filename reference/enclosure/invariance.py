@@ -36,8 +36,9 @@ from typing import Optional
 from flint import arb
 
 from reference.enclosure import certify, motion
-from reference.enclosure.balls import BallModel, from_number, workprec
+from reference.enclosure.balls import BallModel, from_number, parameter, workprec
 from reference.enclosure.maps import enclose_map
+from reference.enclosure.params import ParamBox
 from reference.enclosure.rest import BoxReturn, box_return
 
 #: Working precision (bits) of the cover: the stages are a few closed forms deep.
@@ -46,6 +47,8 @@ PREC = 128
 MAX_BOXES, PHASE_BOXES = 20000, 16
 #: A box narrower than this (in xi or phi) is not split further.
 MIN_WIDTH = Fraction(1, 2 ** 30)
+#: The parameters of a parameter box the cover may halve.
+PARAM_AXES = ("f", "r", "F", "omega", "l", "restitution", "damping")
 #: Interior times at which a frictionless flight's velocity is tried for a sign change.
 SAMPLES = 32
 #: Kinds of events at which ``v = 0`` (``reference.integrator``).
@@ -54,11 +57,13 @@ ZERO_KINDS = ("turn", "stick", "slip", "contact", "release", "chatter")
 
 @dataclass
 class Leaf:
-    """One box of the cover: ``xi``, ``phi`` exact pairs and its :class:`BoxReturn`."""
+    """One box of the cover: ``xi``, ``phi`` exact pairs, its :class:`BoxReturn`, and the
+    parameter box it holds for (``params``: the cover's scene or box, or a part of it)."""
 
     xi: tuple
     phi: tuple
     result: BoxReturn
+    params: object = None
 
 
 @dataclass
@@ -77,14 +82,6 @@ class Cover:
         return [leaf for leaf in self.leaves if not leaf.result.proved]
 
 
-def _split(xi, phi, axis):
-    if axis == "xi":
-        mid = (xi[0] + xi[1]) / 2
-        return [((xi[0], mid), phi), ((mid, xi[1]), phi)]
-    mid = (phi[0] + phi[1]) / 2
-    return [(xi, (phi[0], mid)), (xi, (mid, phi[1]))]
-
-
 def _axis(m, xi, phi, hint):
     """The axis to split: the hint, else the wider in length (``phi`` scaled by ``T F / w``,
     the distance a flight covers in the box's phases)."""
@@ -95,44 +92,84 @@ def _axis(m, xi, phi, hint):
     return "xi" if float(xi[1] - xi[0]) * gap >= float(phi[1] - phi[0]) * scale else "phi"
 
 
+def _children(item, m, hint, models):
+    """The two halves of a failed item ``(params, xi, phi, depth)``.  Over a parameter box the
+    item is tried twice more: at the midpoint parameters, and over the parameters at the
+    state box's centre.  If only the latter fails (or both, at an odd depth), the parameters'
+    spread is what fails, and the relatively widest varying parameter is halved; else (and
+    over a scene) the state axis :func:`_axis` picks.  ``[]`` at the smallest width."""
+    params, xi, phi, depth = item
+    varying = [n for n in PARAM_AXES if isinstance(params, ParamBox) and params.width(n) > 0]
+    if varying and _blame_parameters(params, xi, phi, depth, m, models):
+        name = max(varying, key=lambda n: _relative_width(params, n))
+        return [(half, xi, phi, depth + 1) for half in params.split(name)]
+    axis = _axis(m, xi, phi, hint)
+    lo, hi = xi if axis == "xi" else phi
+    if hi - lo <= MIN_WIDTH:
+        return []
+    mid = (lo + hi) / 2
+    if axis == "xi":
+        return [(params, (lo, mid), phi, depth + 1), (params, (mid, hi), phi, depth + 1)]
+    return [(params, xi, (lo, mid), depth + 1), (params, xi, (mid, hi), depth + 1)]
+
+
+def _blame_parameters(params, xi, phi, depth, m, models) -> bool:
+    at_mid = box_return(_model(models, params.midpoint()), xi, phi).proved
+    centre = ((xi[0] + xi[1]) / 2,) * 2, ((phi[0] + phi[1]) / 2,) * 2
+    at_centre = box_return(m, *centre).proved
+    return not at_centre and (at_mid or depth % 2 == 1)
+
+
+def _relative_width(params, name) -> float:
+    ball = parameter(params, name)
+    return float(ball.rad()) / max(abs(float(ball.mid())), 1.0)
+
+
+def _model(models, params):
+    """The ball model of ``params`` (cached per cover: a parameter box's halves recur)."""
+    if params not in models:
+        models[params] = BallModel(params)
+    return models[params]
+
+
 def cover(scene, *, max_boxes=MAX_BOXES, phase_boxes=PHASE_BOXES, prec=PREC, progress=None,
           progress_every=2000) -> Cover:
     """Cover ``[0, 1] x [0, 1)`` of ``(xi, phi)`` (``x = l + xi (r - l)``, ``tau = phi T``) by
     boxes, each proved by :func:`~reference.enclosure.rest.box_return` or split (at most
     ``max_boxes`` tries; a box that cannot be split or is past the budget stays undecided
-    with its reason).  ``scene``: a ``Scene`` or a ``ParamBox`` (then every box holds for
-    every parameter).  ``progress(message)`` every ``progress_every`` tries."""
+    with its reason).  ``scene``: a ``Scene`` or a ``ParamBox``: every leaf holds for every
+    parameter of its ``params`` (a parameter box is split too, :func:`_children`, and the
+    leaves' parameter boxes cover it).  ``progress(message)`` every ``progress_every`` tries."""
     if not (isinstance(max_boxes, int) and not isinstance(max_boxes, bool) and max_boxes >= 1):
         raise ValueError(f"max_boxes must be an int >= 1, got {max_boxes!r}")
     if not (isinstance(phase_boxes, int) and not isinstance(phase_boxes, bool) and 1 <= phase_boxes <= 4096):
         raise ValueError(f"phase_boxes must be an int in [1, 4096], got {phase_boxes!r}")
     start = time.perf_counter()
-    out = Cover()
+    out, models = Cover(), {}
     with workprec(prec):
-        m = BallModel(scene)
-        work = deque(((Fraction(0), Fraction(1)), (Fraction(k, phase_boxes), Fraction(k + 1, phase_boxes)))
+        work = deque((scene, (Fraction(0), Fraction(1)), (Fraction(k, phase_boxes), Fraction(k + 1, phase_boxes)), 0)
                      for k in range(phase_boxes))
         while work:
-            xi, phi = work.popleft()
+            item = work.popleft()
+            params, xi, phi, _ = item
             if out.tried >= max_boxes:
                 out.leaves.append(Leaf(xi, phi, BoxReturn(False, reason=f"not tried: the budget of "
-                                                                        f"{max_boxes} boxes is spent")))
+                                                                        f"{max_boxes} boxes is spent"), params))
                 continue
             out.tried += 1
+            m = _model(models, params)
             got = box_return(m, xi, phi)
             if progress and out.tried % progress_every == 0:
                 progress(f"dissip-invariance cover: {out.tried} boxes tried, {len(out.leaves)} settled, "
                          f"{len(work)} waiting")
-            if got.proved or got.split is None and got.reason.startswith("not supported"):
-                out.leaves.append(Leaf(xi, phi, got))
-                continue
-            axis = _axis(m, xi, phi, got.split)
-            width = (xi if axis == "xi" else phi)
-            if width[1] - width[0] <= MIN_WIDTH:
+            children = [] if got.proved or got.split is None and got.reason.startswith("not supported") \
+                else _children(item, m, got.split, models)
+            if not children and not got.proved and not got.reason.startswith("not supported"):
                 got.reason = f"{got.reason} (box at the smallest width, 2^-30)"
-                out.leaves.append(Leaf(xi, phi, got))
-                continue
-            work.extend(_split(xi, phi, axis))
+            if children:
+                work.extend(children)
+            else:
+                out.leaves.append(Leaf(xi, phi, got, params))
     out.seconds = time.perf_counter() - start
     return out
 

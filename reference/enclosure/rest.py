@@ -1,10 +1,11 @@
-"""Return to rest within one period: the certificate of one box of rest states.
+"""Return to rest in time: the certificate of one box of rest states.
 
-A *rest state* is ``(x, v = 0)`` at a phase ``tau`` (a time in ``[0, T)``).  It *returns to rest
-within* ``B`` if its motion (``reference.integrator``'s: Filippov sticking, wall contact, the
-reset ``v+ = -e v-``) has ``v = 0`` at some time in ``(tau, tau + B]``; a state that sticks (or
-stays in wall contact) has ``v = 0`` right after ``tau``.  If every rest state returns within
-``T``, then ``Phi(Omega_dissip)`` lies in ``Omega_dissip`` (``reference.enclosure.invariance``).
+A *rest state* is ``(x, v = 0)`` at a time ``tau`` in ``[0, T)``.  It *returns to rest within*
+``B`` if its motion (``reference.integrator``'s: Filippov sticking, wall contact, the reset
+``v+ = -e v-``) has ``v = 0`` at some time in ``(tau, tau + B]``; a state that sticks (or stays
+in wall contact) has ``v = 0`` right after ``tau``.  If every rest state returns by ``2T``
+(``tau + B <= 2T``; ``B <= T`` is the issue's sufficient "within one period"), then
+``Phi(Omega_dissip)`` lies in ``Omega_dissip`` (``reference.enclosure.invariance``).
 
 Coordinates: ``x = l + xi (r - l)``, ``tau = phi T``.  A box is ``[xi0, xi1] x [phi0, phi1]``
 (exact rationals); over a parameter box (``ParamBox``) every statement below holds for every
@@ -21,18 +22,24 @@ with ``x`` measured from the start and ``y0`` the distance to the wall ahead:
    the bounds below hold for its flight too), or is released upwards: ``sigma v > 0`` just
    after ``tau``, ``sigma v = (F/w) sigma (sin w t - sin w tau) - f (t - tau)``.  (The release
    boundary ``|A| = f`` needs no special case: the flight from it is in the box.)
-3. **a stage** from a start set (times ``t0``, speeds ``u >= 0``, ``v0 = sigma u``): if
-   ``sigma v(t0 + H) < 0`` is proved over the set, the closed form has a zero in ``(0, H)``
-   (intermediate values: ``sigma v > 0`` just after the start; a start with ``u = 0`` after
-   an impact is a grazing impact, itself a zero of ``v``), and the motion reaches it unless it
-   meets the wall ahead first (until the zero ``x`` moves towards ``sigma`` only).  If
-   ``y0 - sigma (x(h) - x0) > 0`` is proved on ``[0, H]`` (``certify.exclude``), there is no
-   wall: the return takes at most ``H``.  Else every impact happens at a relative time in
-   ``[h_a, H]`` (the wall excluded on ``[0, h_a]``) with a speed ``V <= V_max``, the sup of
-   ``sigma v`` over ``[h_a, H]`` and the set; the reset leaves ``-sigma e V``.  The next stage:
-   ``-sigma``, from the wall (``y0 = r - l``), times ``t0 + [h_a, H]``, speeds ``e [0, V_max]``.
-4. A state's return time is the sum of its stages' times, at most ``sum H_i``; the box is
-   proved when that bound is ``<= T`` (at most ``MAX_STAGES`` stages).
+3. **a stage** from a start set (times ``t0``, speeds ``u >= 0``, ``v0 = sigma u``; ``y0`` the
+   distance to the wall ahead).  Until its first zero of ``v`` the motion is the closed form
+   with sign ``sigma`` and ``x`` moves towards ``sigma`` only: the wall behind is out of reach.
+   If ``sigma v(t0 + H) < 0`` is proved over the set, the closed form has a zero in ``(0, H)``
+   (intermediate values: ``sigma v > 0`` just after the start; a start with ``u = 0`` after an
+   impact is a grazing impact, itself a zero of ``v``).  If moreover
+   ``y0 - sigma (x(h) - x0) > 0`` is proved on ``[0, H]`` (``certify.exclude``), no wall comes
+   first: the return takes at most ``H``.  Else let ``h_b`` be a time where the closed form is
+   proved beyond the wall for every start (none: ``h_b = H``; neither: the box is not
+   proved): by ``h_b`` every state has met its zero or the wall.  Every impact happens at a
+   relative time in ``[h_a, h_b]`` (the wall excluded on ``[0, h_a]``) with a speed ``V`` in
+   ``[V_min, V_max]``, the bounds of ``sigma v`` over ``[h_a, h_b]`` and the set (``V_min``
+   0 unless positive); the reset leaves ``-sigma e V``.  The next stage: ``-sigma``, from the
+   wall (``y0 = r - l``), times ``t0 + [h_a, h_b]``, speeds ``e [V_min, V_max]``; this one
+   took at most ``h_b``.
+4. A state's return time is the sum of its stages' times, at most their bounds' sum; the box is
+   proved when that bound is ``<= 2T - tau`` for every ``tau`` of the box (at most
+   ``MAX_STAGES`` stages).
 
 Frictionless (``f = 0``, no damping): no state sticks and the release needs ``A != 0`` proved
 for its sign; besides, a rest state whose flight meets neither wall on ``[0, T]`` has
@@ -65,7 +72,7 @@ class BoxReturn:
     """What :func:`box_return` proved for one box (module docstring).
 
     ``proved``: every rest state of the box returns to rest within ``within`` (an exact ball,
-    the bound; ``<= T``), ``stuck`` if every state sticks (``within`` 0).  Else ``reason``
+    the bound; ``tau + within <= 2T``), ``stuck`` if every state sticks (``within`` 0).  Else ``reason``
     says which step failed and ``split`` the axis to split (``"xi"`` or ``"phi"``; None: no
     split helps).  ``stages``: the flights of the longest chain proved."""
 
@@ -106,7 +113,7 @@ def box_return(m, xi, phi, max_stages=MAX_STAGES) -> BoxReturn:
         return BoxReturn(False, reason="the phases span the sticking band and both releases "
                                        "(|F cos w tau| > f upwards and downwards)")
     ahead = gap * (1 - xis) if sigma > 0 else gap * xis
-    got = _chain(m, sigma, tau, ahead, gap, max_stages)
+    got = _chain(m, sigma, tau, ahead, gap, (2 * m.T - tau).lower(), max_stages)
     if not got.proved and frictionless(m):
         periodic = _periodic(m, tau, xis, gap)
         if periodic.proved:
@@ -114,31 +121,34 @@ def box_return(m, xi, phi, max_stages=MAX_STAGES) -> BoxReturn:
     return got
 
 
-def _chain(m, sigma, t0, y0, gap, max_stages) -> BoxReturn:
-    """Steps 3 and 4 of the module docstring from the release (``u = 0``) at ``t0``."""
-    total, u, limit_T = arb(0), arb(0), m.T.lower()
+def _chain(m, sigma, t0, y0, gap, deadline, max_stages) -> BoxReturn:
+    """Steps 3 and 4 of the module docstring from the release (``u = 0``) at ``t0``, within
+    ``deadline`` (exact) in all."""
+    total, u = arb(0), arb(0)
     for stage in range(1, max_stages + 1):
         flight = motion.Flight(m, t0, arb(0), sigma * u, sigma)
         where = f"stage {stage} ({'release' if stage == 1 else 'after an impact'}, sigma {sigma:+d})"
-        limit = (limit_T - total).lower()
+        limit = (deadline - total).lower()
         H = first_negative(flight, lambda st: sigma * st[1], m.T, limit)
-        if H is None:
-            return BoxReturn(False, stages=stage, split="phi" if stage == 1 else None,
-                             reason=f"{where}: no zero of v proved within the rest of the period "
-                                    f"({float(limit):.4g})")
         wall = motion.EventFunction("wall ahead", 0, -sigma, y0)
-        try:
-            certify.exclude(flight, wall, arb(0), H, where)
-        except Unproved:
-            pass
-        else:
-            return BoxReturn(True, within=(total + H).upper(), stages=stage)
-        h_a = wall_free(flight, wall, H)
-        h_b = first_negative(flight, lambda st: wall.const + wall.coef * st[0], m.T, H) or H
-        speed = speed_bound(flight, sigma, h_a, h_b)
+        if H is not None:
+            try:
+                certify.exclude(flight, wall, arb(0), H, where)
+            except Unproved:
+                pass
+            else:
+                return BoxReturn(True, within=(total + H).upper(), stages=stage)
+        h_b = first_negative(flight, lambda st: wall.const + wall.coef * st[0], m.T,
+                             limit if H is None else H) or H
+        if h_b is None:
+            return BoxReturn(False, stages=stage, split="phi" if stage == 1 else None,
+                             reason=f"{where}: neither a zero of v nor the wall proved by t = 2T "
+                                    f"({float(limit):.4g} after the stage's start)")
+        h_a = wall_free(flight, wall, h_b)
+        low, high = speed_range(flight, sigma, h_a, h_b)
         total = total + h_b
         t0 = t0 + span(h_a, h_b)
-        u = m.e * span(arb(0), speed)
+        u = m.e * span(low, high)
         sigma, y0 = -sigma, gap
         if not u.upper() > 0:                    # e = 0: the impact ends in contact
             return BoxReturn(True, within=total.upper(), stages=stage)
@@ -209,9 +219,12 @@ def wall_free(flight, wall, H):
     return reached
 
 
-def speed_bound(flight, sigma, lo, hi):
-    """An upper bound (exact ball, ``>= 0``) of ``sigma v`` over ``[lo, hi]``."""
-    top = arb(0)
+def speed_range(flight, sigma, lo, hi):
+    """Exact bounds ``0 <= low <= high`` of ``sigma v`` over ``[lo, hi]`` (``low`` 0 unless
+    ``sigma v`` is proved positive there)."""
+    low, high = None, arb(0)
     for a, b in _pieces(lo, hi):
-        top = max(top, (sigma * _mean_value(flight, 1, a, b)).upper())
-    return top
+        piece = sigma * _mean_value(flight, 1, a, b)
+        high = max(high, piece.upper())
+        low = piece.lower() if low is None else min(low, piece.lower())
+    return max(arb(0), low), high
