@@ -183,6 +183,20 @@ def test_a_parameter_box_above_the_fold_holds_at_random_parameters():
         assert first_zero(sc, x, tau, float(leaf.result.within)) is not None
 
 
+def test_atlas_boxes_at_the_violation_are_refuted_for_every_parameter():
+    """The proved atlas zoomed on f/F = 0.0234, w^2 R/F = 4.48: each box refuted by one ball
+    for all its parameters; the reference confirms the ball at random parameters and starts."""
+    from cross_check.atlas import proved, proved_dissip
+    window = (Fraction("0.0232"), Fraction("0.0236"), Fraction("4.47"), Fraction("4.49"))
+    rng = random.Random(11)
+    for i, j in ((0, 0), (1, 1)):
+        rec = proved_dissip.prove_box(proved.box_of(2, i, j, window))
+        assert rec["status"] == "refuted" and rec["inside_numerical"] is False
+        f, r = rng.uniform(*rec["f_over_F"]), rng.uniform(*rec["w2R_over_F"])
+        sc = Scene(F=1, f=Fraction(f), omega=1, l=0, r=Fraction(r))
+        assert all(a and b for a, b in confirm(sc, rec["counterexample"], rng, 2))
+
+
 def test_the_f0_column_of_a_small_atlas_agrees_with_the_closed_form(client, tmp_path):
     """The numerical atlas at f = 0: x1 and x2 exist (non-sticking) exactly where the closed
     forms say (``paper.nonstick_margin > 0``; x1 a centre, ``|tr| < 2``), with their traces --

@@ -13,8 +13,8 @@ claims of ``cross_check.atlas.proved``).  On each box ``B`` of ``(f/F, w^2 R/F)`
 * **refuted**: a counterexample ball proved for every parameter of ``B``
   (``prove_counterexample`` on the ``ParamBox``, candidates from the centre's grid);
 * **undecided** otherwise, with the reason.  A box whose samples show violations but which
-  is not refuted as a whole is searched for a sub-box (halved ``SUB_STEPS`` times about a
-  violating sample) on which a ball is proved for every parameter: ``refuted_inside`` holds
+  is not refuted as a whole is searched for a sub-box (``2^-k`` of it, ``k`` in
+  ``SUB_STEPS``, about its most violating sample) on which a ball is proved for every parameter: ``refuted_inside`` holds
   it -- the claim is then *false somewhere in* ``B``, proved, though not on all of it.
 
 The proofs of ``B`` need one itinerary for every parameter: at grid 16 the boxes are wide
@@ -29,13 +29,16 @@ import time
 from fractions import Fraction
 
 from cross_check.dynamics import violations
+from reference.enclosure.balls import DEFAULT_PREC
 from reference.enclosure.invariance import cover, prove_counterexample
 
 CLAIM = "dissip-invariance"
-#: cover tries per atlas box; the sample grid of the numerical verdict; the sub-box search
-MAX_BOXES, SAMPLE_GRID, SUB_STEPS = 2000, 48, 8
-#: candidate balls and radii tried per (sub-)box
-CANDIDATES, TRIES = 2, 6
+#: cover tries per atlas box (more rarely helps: the boxes below the fold that 600 do not
+#: prove, 8000 did not either); the sample grid of the numerical verdict; the sub-box search's
+#: halvings (each sub-box 2^-k of the box, k in SUB_STEPS)
+MAX_BOXES, SAMPLE_GRID, SUB_STEPS = 600, 48, (2, 4, 6, 8)
+#: candidate balls and radii tried per (sub-)box; the proofs run at one precision
+CANDIDATES, TRIES = 2, 5
 
 
 def _samples(box):
@@ -54,9 +57,10 @@ def numerical(box):
     return (not any(hits)) if (all(hits) or not any(hits)) else None, out
 
 
-def _refute(box, count=CANDIDATES):
-    got, _ = violations.refute(lambda x, v, rx, rv: prove_counterexample(box, x, v, rx, rv),
-                               box.midpoint(), count=count, tries=TRIES)
+def _refute(box, count=CANDIDATES, zoomed=True):
+    got, _ = violations.refute(lambda x, v, rx, rv: prove_counterexample(box, x, v, rx, rv,
+                                                                         max_prec=DEFAULT_PREC),
+                               box.midpoint(), count=count, tries=TRIES, zoomed=zoomed)
     return got
 
 
@@ -77,14 +81,14 @@ def _sub_box(box, f, r, k):
 
 
 def refuted_inside(box, samples):
-    """A sub-box about a violating sample with a ball proved for every parameter of it
-    (``{"f_over_F", "w2R_over_F", "ball"}``), else None."""
-    for f, r, hits in sorted(samples, key=lambda s: -s[2]):
+    """A sub-box about the sample with the most violations with a ball proved for every
+    parameter of it (``{"f_over_F", "w2R_over_F", "ball"}``), else None."""
+    for f, r, hits in sorted(samples, key=lambda s: -s[2])[:1]:
         if not hits:
             break
-        for k in range(1, SUB_STEPS + 1):
+        for k in SUB_STEPS:
             sub = _sub_box(box, Fraction(f), Fraction(r), k)
-            got = _refute(sub, count=1)
+            got = _refute(sub, count=1, zoomed=False)
             if got is not None:
                 return {"f_over_F": [float(sub.lo("f")), float(sub.hi("f"))],
                         "w2R_over_F": [float(sub.lo("r")), float(sub.hi("r"))], "ball": _ball(got)}

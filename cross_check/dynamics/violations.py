@@ -125,14 +125,14 @@ def zoom(scene, candidate, n=ZOOM_N, cells=ZOOM_CELLS):
     return _candidate(xs, vs, d, i, j) if d[i, j] else None
 
 
-def refute(prove, scene, *, n=160, count=4, shrink=SHRINK, tries=TRIES, progress=None):
+def refute(prove, scene, *, n=160, count=4, shrink=SHRINK, tries=TRIES, zoomed=True, progress=None):
     """The first counterexample ``prove(x, v, x_radius, v_radius)`` proves (its result has
-    ``proved``), trying each candidate (then its zoom) at radii shrunk ``shrink`` times per try
-    (``tries`` tries: the ball's enclosure widens by the map's stretching at every impact);
-    ``(result, tried)`` with ``result`` None if none is proved."""
+    ``proved``), trying each candidate (then its zoom, if ``zoomed``) at radii shrunk
+    ``shrink`` times per try (``tries`` tries: the ball's enclosure widens by the map's
+    stretching at every impact); ``(result, tried)`` with ``result`` None if none is proved."""
     tried = 0
     for cand in candidates(scene, n, count=count):
-        for c in (cand, zoom(scene, cand)):
+        for c in (cand, zoom(scene, cand) if zoomed else None):
             if c is None:
                 continue
             x, v, rx, rv = c[:4]

@@ -8,13 +8,16 @@ once in ``[0, T]``; ``Omega_pres`` the rest.  The paper observes (Fig. fig:regs)
 **The reduction.**  Take a start in ``Omega_dissip`` and ``t*`` the last zero of ``v`` in
 ``[0, T]``.  The forcing is ``T``-periodic, so the image's motion over ``[0, T]`` is the
 start's over ``[T, 2T]``: the image is in ``Omega_dissip`` iff ``v`` vanishes in ``[T, 2T]``.
-If ``t* = T`` it does.  Else ``v != 0`` on ``(t*, T]`` and the motion after ``t*`` is the one
-of the rest state ``(x(t*), 0)`` at the phase ``t*`` (the state decides the future); a zero of
-``v`` in ``(t*, t* + T]`` lies in ``(T, 2T]``.  So it suffices that *every rest state returns
-to rest within one period*: for every ``x`` in ``[l, r]`` and phase ``tau`` in ``[0, T)``,
-``v = 0`` again in ``(tau, tau + T]`` -- a statement on a compact set of two dimensions,
-which :func:`cover` proves by boxes (``reference.enclosure.rest``: each box with its proved
-bound on the return time).
+If ``t* = T`` it does.  Else ``v != 0`` on ``(t*, T]``, and the motion after ``t*`` is the one
+of the rest state ``(x(t*), 0)`` at the time ``t*`` (the state decides the future): a zero of
+``v`` in ``(t*, 2T]`` lies in ``(T, 2T]``.  So it suffices that *every rest state returns to
+rest by 2T*: for every ``x`` in ``[l, r]`` and time ``tau`` in ``[0, T)``, ``v = 0`` again in
+``(tau, 2T]`` -- a statement on a compact set of two dimensions, which :func:`cover` proves by
+boxes (``reference.enclosure.rest``: each box with its proved bound ``B`` on the return time,
+``tau + B <= 2T``).  Returning within one period (``B <= T``) is the stronger sufficient
+condition; the deadline ``2T`` is the exact one (a rest state at ``tau`` that is some start's
+last zero must return by ``2T``), and a cover for it needs far fewer boxes.  Stuck rest
+states (``v = 0`` right after ``tau``) are never a last zero before ``T``: they hold trivially.
 
 **The refutation.**  A ball of starts ``(x, v)``, each proved in ``Omega_dissip`` and each
 image proved in ``Omega_pres``: :func:`prove_counterexample` proves the whole itinerary over
@@ -190,10 +193,12 @@ class Counterexample:
     events: list = field(default_factory=list)
 
 
-def prove_counterexample(scene, x, v, x_radius, v_radius, *, prec=None) -> Counterexample:
+def prove_counterexample(scene, x, v, x_radius, v_radius, *, prec=None, max_prec=None) -> Counterexample:
     """Prove that every start of the ball is in ``Omega_dissip`` and its image in
-    ``Omega_pres`` (module docstring); numbers as ``enclose_map`` takes them."""
-    kwargs = {} if prec is None else {"prec": prec}
+    ``Omega_pres`` (module docstring); numbers, ``prec`` and ``max_prec`` as ``enclose_map``
+    takes them (a search passes ``max_prec = prec``: a ball too wide fails at every
+    precision, the next, smaller one is the cheaper try)."""
+    kwargs = {k: val for k, val in (("prec", prec), ("max_prec", max_prec)) if val is not None}
     enc = enclose_map(scene, x, v, periods=2, x_radius=x_radius, v_radius=v_radius, **kwargs)
     out = Counterexample(False, (x, x_radius), (v, v_radius))
     if not enc.proved:

@@ -28,8 +28,8 @@ with ``x`` measured from the start and ``y0`` the distance to the wall ahead:
    If ``sigma v(t0 + H) < 0`` is proved over the set, the closed form has a zero in ``(0, H)``
    (intermediate values: ``sigma v > 0`` just after the start; a start with ``u = 0`` after an
    impact is a grazing impact, itself a zero of ``v``).  If moreover
-   ``y0 - sigma (x(h) - x0) > 0`` is proved on ``[0, H]`` (``certify.exclude``), no wall comes
-   first: the return takes at most ``H``.  Else let ``h_b`` be a time where the closed form is
+   ``y0 - sigma (x(h) - x0) > 0`` is proved on ``[0, H]``, no wall comes
+   first: the return takes at most ``H`` (:func:`positive`: the mean-value form on pieces).  Else let ``h_b`` be a time where the closed form is
    proved beyond the wall for every start (none: ``h_b = H``; neither: the box is not
    proved): by ``h_b`` every state has met its zero or the wall.  Every impact happens at a
    relative time in ``[h_a, h_b]`` (the wall excluded on ``[0, h_a]``) with a speed ``V`` in
@@ -55,7 +55,7 @@ from typing import Optional
 
 from flint import arb
 
-from reference.enclosure import certify, motion
+from reference.enclosure import motion
 from reference.enclosure.balls import from_fraction, span
 from reference.enclosure.certify import Unproved
 
@@ -63,8 +63,9 @@ from reference.enclosure.certify import Unproved
 MAX_STAGES = 8
 #: The zero search steps through a period in SCAN steps, then bisects REFINE times.
 SCAN, REFINE = 64, 10
-#: Pieces of the impact window for the impact-free time and the speed bound.
-PIECES = 32
+#: Pieces of the impact window for the impact-free time and the speed bound; bisections of a
+#: piece in the proof that no wall is met.
+PIECES, DEPTH = 32, 10
 
 
 @dataclass
@@ -131,13 +132,8 @@ def _chain(m, sigma, t0, y0, gap, deadline, max_stages) -> BoxReturn:
         limit = (deadline - total).lower()
         H = first_negative(flight, lambda st: sigma * st[1], m.T, limit)
         wall = motion.EventFunction("wall ahead", 0, -sigma, y0)
-        if H is not None:
-            try:
-                certify.exclude(flight, wall, arb(0), H, where)
-            except Unproved:
-                pass
-            else:
-                return BoxReturn(True, within=(total + H).upper(), stages=stage)
+        if H is not None and positive(flight, wall, arb(0), H):
+            return BoxReturn(True, within=(total + H).upper(), stages=stage)
         h_b = first_negative(flight, lambda st: wall.const + wall.coef * st[0], m.T,
                              limit if H is None else H) or H
         if h_b is None:
@@ -163,7 +159,8 @@ def _periodic(m, tau, xis, gap) -> BoxReturn:
     try:
         for fn in (motion.EventFunction("wall r", 0, -1, gap * (1 - xis)),
                    motion.EventFunction("wall l", 0, 1, gap * xis)):
-            certify.exclude(flight, fn, arb(0), T, "frictionless flight over a period")
+            if not positive(flight, fn, arb(0), T):
+                raise Unproved(fn.name)
     except Unproved:
         return BoxReturn(False, reason="frictionless: the sign of F cos(w tau) is not fixed on the "
                                        "box and its flight meets a wall within a period")
@@ -206,6 +203,23 @@ def _mean_value(flight, offset, a, b):
     over the piece times the half-width (the mean-value theorem)."""
     c, r = ((a + b) / 2).mid(), ((b - a) / 2).upper()
     return flight.stack(c)[offset] + flight.stack(span(a, b))[offset + 1] * arb(0, r)
+
+
+def positive(flight, fn, lo, hi) -> bool:
+    """Whether the wall function ``fn`` (``const + coef x``) is proved positive on
+    ``[lo, hi]`` for every start: the mean-value form on ``PIECES`` pieces, each failing piece
+    bisected down to ``DEPTH`` more levels (a near-grazing box gives up early: its impact is
+    then bounded instead)."""
+    work = [(a, b, 0) for a, b in _pieces(lo, hi)]
+    while work:
+        a, b, depth = work.pop()
+        if fn.const + fn.coef * _mean_value(flight, 0, a, b) > 0:
+            continue
+        if depth >= DEPTH:
+            return False
+        mid = ((a + b) / 2).mid()
+        work += [(a, mid, depth + 1), (mid, b, depth + 1)]
+    return True
 
 
 def wall_free(flight, wall, H):
