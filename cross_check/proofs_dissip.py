@@ -127,8 +127,9 @@ def decide(sc, *, max_boxes=MAX_BOXES, progress=print, search=True) -> dict:
                                             f"rest by 2T, within {worst:.6g} (T = {T:.6g}; "
                                             f"{len(cov.leaves)} boxes)")
     else:
-        rec["reason"] = (f"{len(left)} of {len(cov.leaves)} boxes not proved (first: "
-                         f"{left[0].result.reason}); no counterexample proved")
+        tried = [leaf for leaf in left if not leaf.result.reason.startswith("not tried")] or left
+        rec["reason"] = (f"{len(left)} of {len(cov.leaves)} boxes not proved (e.g. "
+                         f"{tried[0].result.reason}); no counterexample proved")
     rec["stats"]["seconds"] = round(time.perf_counter() - start, 2)
     progress(f"{sc.name}: {rec['verdict']} ({rec['reason']})")
     return rec
