@@ -20,6 +20,7 @@ from __future__ import annotations
 import functools
 import math
 import numbers
+import time
 
 import numpy as np
 
@@ -196,3 +197,29 @@ def flow(scene, x, v, t_end, *, max_events=MAX_EVENTS, threads=None):
     engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
     res = _run(engine, P, x, v, t_end, 0.0, max_events, threads)
     return res.x.reshape(x.shape), res.v.reshape(x.shape)
+
+
+def warm_up(*, closed_form: bool = True, position_forcing: bool = True) -> dict:
+    """Compile the kernels of ``fast``'s two engines, or load them from numba's cache, before a
+    real call needs them; return the seconds each took, ``{"closed_form": s, "position_forcing":
+    s}`` (the engines asked for).
+
+    The first call of any function on an engine compiles that engine's whole event loop (one
+    set of kernels serves every function, with or without the Jacobian, any thread count):
+    cold, about 15 CPU s for the closed-form loop (``fast.loop``) and 7 s for the numerical
+    flights of position forcing (``fast.ode``) on the 2-core machine; from the cache, well
+    under a second.  A program that wants the compilation out of its timings, or on another
+    core, calls this first (``python -m cross_check report`` compiles the two engines in two
+    processes at once).  The call is one period of one state of a small scene of each engine."""
+    from reference.scene import Scene
+
+    scenes = {"closed_form": closed_form, "position_forcing": position_forcing}
+    out = {}
+    for name, wanted in scenes.items():
+        if wanted:
+            t0 = time.perf_counter()
+            scene = Scene(F=1, f="0.1", omega=1, l=0, r=1,
+                          wavenumber=1 if name == "position_forcing" else None)
+            map_and_jacobian(scene, 0.5, 0.25, threads=1)
+            out[name] = time.perf_counter() - t0
+    return out
