@@ -12,7 +12,9 @@ Commands (each has its own ``--help``):
 * ``prove``   -- computer-assisted proofs: the golden data and the paper's orbits, ``cross_check.proofs``;
 * ``verify``  -- the whole V&V on the user's scenes (a TOML scene file), ``cross_check.verify``.
 
-Bad arguments give one line on stderr and exit status 2 (argparse's convention).
+Bad arguments give one line on stderr and exit status 2 (argparse's convention); so does an
+output that cannot be written (every ``--out`` is checked before the work starts,
+``cross_check.outputs``; an ``OSError`` naming a file later on gives the same one line).
 """
 from __future__ import annotations
 
@@ -96,6 +98,10 @@ def main(argv=None) -> int:
     except SystemExit as exc:   # --help of a subcommand exits 0; keep other codes
         code = exc.code
         return code if isinstance(code, int) else (0 if code is None else 2)
+    except OSError as exc:      # an output the parse-time check could not foresee (cross_check.outputs)
+        if exc.filename is None:
+            raise
+        return _fail(f"{cmd}: {exc.filename!s}: {exc.strerror or exc}")
     return 0 if status is None else int(status)
 
 

@@ -40,7 +40,7 @@ import traceback
 
 import numpy as np
 
-from cross_check import golden, scenefile
+from cross_check import golden, outputs, scenefile
 from cross_check import scenes as scene_table
 from cross_check.agreement import compare
 from cross_check.progress import Progress
@@ -251,7 +251,7 @@ def build_parser() -> argparse.ArgumentParser:
     scenefile.add_arguments(parser, "score on")
     parser.add_argument("--periods", nargs="+", type=int, default=[1, 10], choices=[1, 10],
                         help="horizons: 1, or 1 10 (default)")
-    parser.add_argument("--out", default="scorecard", help="output directory (default: scorecard/)")
+    parser.add_argument("--out", default="scorecard", type=outputs.check_folder, help="output directory (default: scorecard/)")
     parser.add_argument("--case-timeout", type=runner.positive_seconds, default=CASE_TIMEOUT, metavar="SECONDS",
                         help=f"budget of each call on a start (default {CASE_TIMEOUT:g}); a start over it is a "
                              "failure of kind timeout and the run goes on")
