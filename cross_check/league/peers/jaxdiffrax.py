@@ -21,7 +21,10 @@ state at the root.  Where the library had to be worked around:
   ``Bisection`` keeps the bracket but finds roots of one scalar function only: hence the one
   condition ``g``.  Its ``flip`` is fixed (``True``: ``g`` falls), because diffrax root-finds
   on *every* start of a vmapped batch as soon as one has an event, and on a start without one
-  the ``"detect"`` check of the bracket raises;
+  the ``"detect"`` check of the bracket raises.  And it stops on the bracket's width alone
+  (``jaxdiffrax_loop.BracketBisection``): optimistix's also asks ``|g| < atol``, which the
+  rounding noise of a steep ``g`` does not meet within its 256 steps (measured: failed solves on
+  the resonance scenes at Dopri8 rtol 1e-6 and 1e-9);
 * diffrax fires a downward crossing only from a strictly positive value: a flight that starts
   at ``v = 0`` (after a turn or a release) would start ``g`` at 0, and a wall one step away
   would be flown through (measured: the chatter run of ``fig:many:2pi/f=0.2``).  The shift
@@ -111,29 +114,44 @@ class DiffraxAdapter:
         x, v = np.asarray(x, float), np.asarray(v, float)
         n = len(x)
         if n == 0:
-            return [np.zeros(0)] * 3 + [np.zeros((0, 0))] * 5
+            return None
         pad = -n % LANES
         X, V = np.concatenate([x, np.full(pad, x[0])]), np.concatenate([v, np.full(pad, v[0])])
         out = self._run(P, tol, X, V, periods * 2 * math.pi / p["omega"], MAX_EVENTS_PER_PERIOD * periods)
-        return [np.asarray(a)[:n] for a in out]
+        return {k: np.asarray(a)[:n] for k, a in out.items()}
+
+    def _failed(self, out, periods):
+        """``RuntimeError`` naming the starts without a result and why, if any."""
+        from cross_check.league.peers.jaxdiffrax_loop import LOOP_BOUND, OK
+
+        bad = np.flatnonzero(out["status"] != OK)
+        if len(bad):
+            why = ["diffrax reported a failed solve (its RESULTS: max_steps, or the event's root find)"
+                   if out["status"][i] != LOOP_BOUND else
+                   f"more than {MAX_EVENTS_PER_PERIOD * periods} events and rests" for i in bad[:10]]
+            raise RuntimeError(f"diffrax {self.solver} rtol {self.rtol:g}: no result for start(s) "
+                               + "; ".join(f"{i}: {w}" for i, w in zip(bad[:10].tolist(), why)))
 
     def step(self, params, x, v, periods):
-        xs, vs = self._call(params, x, v, periods)[:2]
-        bad = np.flatnonzero(~(np.isfinite(xs) & np.isfinite(vs)))
-        if len(bad):
-            raise RuntimeError(f"diffrax {self.solver}: no result for start(s) {bad[:10].tolist()} "
-                               f"(a solver failure, or more than {MAX_EVENTS_PER_PERIOD} events per period)")
-        return xs, vs
+        out = self._call(params, x, v, periods)
+        if out is None:
+            return np.zeros(0), np.zeros(0)
+        self._failed(out, periods)
+        return out["x"], out["v"]
 
     def events(self, params, x, v):
         from cross_check.league.peers.jaxdiffrax_loop import KINDS, LOG
 
-        _, _, n, kinds, t, xe, ve, vb = self._call(params, x, v, 1)
+        out = self._call(params, x, v, 1)
+        if out is None:
+            return []
+        self._failed(out, 1)
+        n = out["n"]
         if (n > LOG).any():
             raise RuntimeError(f"diffrax {self.solver}: more than {LOG} events in a period for start(s) "
                                f"{np.flatnonzero(n > LOG)[:10].tolist()}")
-        return [[(KINDS[kinds[i, j]], float(t[i, j]), float(xe[i, j]), float(ve[i, j]), float(vb[i, j]))
-                 for j in range(n[i])] for i in range(len(n))]
-
+        cols = [out[k] for k in ("t", "x_event", "v_after", "v_before")]
+        return [[(KINDS[out["kinds"][i, j]],) + tuple(float(c[i, j]) for c in cols) for j in range(n[i])]
+                for i in range(len(n))]
 
 __all__ = ["DiffraxAdapter", "LANES", "SOLVERS"]

@@ -3,9 +3,10 @@
 Imported by the adapter on its first call, never at the suite's import: importing this module
 switches JAX to float64 (``jax_enable_x64``) in the process that runs the adapter.
 
-``program(solver)`` is the jitted, vmapped ``run(P, tol, X, V, t_end, max_iter) -> (x, v, n,
-kinds, t, x, v_after, v_before)``: per start the map, and the event log (``n`` events, their
-kind codes into ``KINDS``).  ``P = [F, f, w, l, r, e, c, k]``, ``tol = [rtol, atol]``.
+``program(solver)`` is the jitted, vmapped ``run(P, tol, X, V, t_end, max_iter) -> {x, v,
+status, n, kinds, t, x_event, v_after, v_before}``: per start the map (NaN unless ``status`` is
+``OK``; else ``SOLVER_FAILED`` or ``LOOP_BOUND``), and the event log (``n`` events, their kind
+codes into ``KINDS``).  ``P = [F, f, w, l, r, e, c, k]``, ``tol = [rtol, atol]``.
 """
 from __future__ import annotations
 
@@ -35,6 +36,8 @@ CHATTER_ATOLS = 100.0
 KINDS = ("impact", "turn", "stick", "slip", "contact", "release", "chatter")
 IMPACT, TURN, STICK, SLIP, CONTACT, RELEASE, CHATTER = range(7)
 FLIGHT, STUCK, AT_R, AT_L = range(4)
+#: a start's outcome
+OK, SOLVER_FAILED, LOOP_BOUND = range(3)
 TWO_PI = 2 * math.pi
 
 
@@ -52,7 +55,18 @@ def _first_event(t, y, args, **kw):
     return jnp.minimum(_to_wall(y, P, s), s * y[1] + SPEED_SHIFT * (P[0] + P[1]) / P[2])
 
 
-EVENT = diffrax.Event(_first_event, optx.Bisection(rtol=ROOT_RTOL, atol=ROOT_RTOL, flip=True), direction=False)
+class BracketBisection(optx.Bisection):
+    """``optimistix.Bisection`` that stops on the bracket's width alone.  The library's also asks
+    ``|g| < atol`` of the same ``atol`` as the width; at a root of ``g`` of slope ~40 (the
+    resonance scenes) ``|g|`` one ulp of ``t`` away is 4e-15, its rounding noise about as much,
+    and the bisection ran out of its 256 steps (measured: ``fig:resonance/R=0.89/sticking`` at
+    Dopri8 rtol 1e-9, a failed solve)."""
+
+    def terminate(self, fn, y, args, options, state, tags):
+        return jnp.abs(state.lower - state.upper) < self.atol + self.rtol * jnp.abs(y), optx.RESULTS.successful
+
+
+EVENT = diffrax.Event(_first_event, BracketBisection(rtol=ROOT_RTOL, atol=ROOT_RTOL, flip=True), direction=False)
 
 
 def _solve(solver, P, tol, t0, x0, v0, s, t_end, event):
@@ -170,10 +184,11 @@ def _one(solver, P, tol, x0, v0, t_end, max_iter):
     # batch as soon as one lane has an event, and a lane without one then ends at the bisection's
     # approximation of t_end (its result would depend on the other starts)
     sol, ok = _solve(solver, P, tol, c["t"], c["x"], c["v"], c["s"], t_end, None)
-    x = jnp.where(c["last"], sol.ys[-1, 0], c["x"])
-    v = jnp.where(c["last"], sol.ys[-1, 1], c["v"])
-    failed = c["bad"] | ~c["done"] | (c["last"] & ~ok)
-    return (jnp.where(failed, jnp.nan, x), jnp.where(failed, jnp.nan, v), c["n"], c["kinds"]) + c["log"]
+    status = jnp.where(c["bad"] | (c["last"] & ~ok), SOLVER_FAILED, jnp.where(c["done"], OK, LOOP_BOUND))
+    x = jnp.where(status == OK, jnp.where(c["last"], sol.ys[-1, 0], c["x"]), jnp.nan)
+    v = jnp.where(status == OK, jnp.where(c["last"], sol.ys[-1, 1], c["v"]), jnp.nan)
+    return dict(x=x, v=v, status=status, n=c["n"], kinds=c["kinds"], t=c["log"][0], x_event=c["log"][1],
+                v_after=c["log"][2], v_before=c["log"][3])
 
 
 def program(solver_name: str):
@@ -182,4 +197,4 @@ def program(solver_name: str):
     return jax.jit(jax.vmap(one, in_axes=(None, None, 0, 0, None, None)))
 
 
-__all__ = ["KINDS", "LOG", "program", "release"]
+__all__ = ["KINDS", "LOG", "LOOP_BOUND", "OK", "SOLVER_FAILED", "BracketBisection", "program", "release"]
