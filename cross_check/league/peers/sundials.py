@@ -159,12 +159,12 @@ class SundialsAdapter:
 
     def _runs(self, params, x, v, periods):
         from cross_check.agreement import baseline
-        from cross_check.score.adapters import scene_of
+        from reference.scene import Scene        # the problem definition (the baseline reads a Scene)
 
         if self._parts is None:
             self._parts = CvodeFlight(self.method), CvodeRest(self.method)
         flight, rest = self._parts
-        sc = scene_of(params)
+        sc = Scene(**params)
         return [baseline.stroboscopic(sc, float(a), float(b), periods, rtol=self.rtol, flight=flight, rest=rest)
                 for a, b in zip(x, v)]
 
