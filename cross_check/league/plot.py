@@ -39,7 +39,7 @@ def work_precision_png(doc, path) -> list[str]:
     ax.set_title(f"League ({'quick' if doc['quick'] else 'full'}): {len(doc['scenes'])} golden scenes, one period")
     ax.set_ylim(bottom=-0.5, top=17.5)
     ax.grid(True, which="major", alpha=0.3)
-    ax.legend(fontsize=7.5, loc="lower right", ncol=2)
+    ax.legend(fontsize=7.5, loc="lower left", ncol=2)   # fast sits top left, the slow and coarse bottom right
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

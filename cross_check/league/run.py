@@ -3,9 +3,9 @@
 For each entry (``entries``): build its adapter, time its compilation apart where it has one
 (``warmup_seconds``: a fresh worker process, the first call on the scenes' warm-up start less
 the second), then score it with ``cross_check.score.card.score`` in the scorer's worker process
-(per-start budgets, one period), and read its row off the scorecard (``table``).  The files are
-rewritten after every row (``league.md``, ``league.json``, ``work_precision.png``), so a run
-stopped half-way leaves the rows so far.
+(per-start budgets, one period), and read its row off the scorecard (``table``; the scorecard
+itself goes to ``scorecards/``).  The files are rewritten after every row (``league.md``,
+``league.json``, ``work_precision.png``), so a run stopped half-way leaves the rows so far.
 
 ``score_options`` pass through to ``score`` unchanged (``case_timeout``, ``first_call_timeout``,
 and whatever keywords it takes); ``periods`` is always ``(1,)``.
@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import os
 import pathlib
+import re
 import sys
 import time
 
@@ -45,8 +46,8 @@ def warmup_seconds(adapter, scene: str, first_call_timeout: float = runner.FIRST
     return max(0.0, first.seconds - second.seconds)
 
 
-def run_entry(entry, scenes, score_options: dict, say) -> dict:
-    """One row: the adapter of ``entry`` scored on ``scenes`` (module docstring)."""
+def run_entry(entry, scenes, score_options: dict, say):
+    """``(row, scorecard)``: the adapter of ``entry`` scored on ``scenes`` (module docstring)."""
     t0 = time.perf_counter()
     adapter = entry.make()
     warm = None
@@ -62,7 +63,7 @@ def run_entry(entry, scenes, score_options: dict, say) -> dict:
 
     card = score_card.score(adapter, scenes=list(scenes), periods=(1,), in_process=False, progress=relay,
                             **score_options)
-    return table.row(entry, card, warm, time.perf_counter() - t0)
+    return table.row(entry, card, warm, time.perf_counter() - t0), card
 
 
 def league(out, quick: bool = False, groups=None, scenes=None, score_options=None, say=None) -> dict:
@@ -76,18 +77,28 @@ def league(out, quick: bool = False, groups=None, scenes=None, score_options=Non
     for group, why in skipped.items():
         say(f"league: skipped {group}: {why}")
     t0, rows = time.perf_counter(), []
-    doc = table.document(rows, skipped, scenes, quick, 0.0, score_options)
     for i, entry in enumerate(chosen, 1):
         say(f"league: [{i}/{len(chosen)}] {entry.peer} {entry.setting} ...")
-        rows.append(run_entry(entry, scenes, score_options, say))
-        r = rows[-1]
+        r, card = run_entry(entry, scenes, score_options, say)
+        r["scorecard"] = _card_file(out, entry, card)
+        rows.append(r)
         say(f"league: [{i}/{len(chosen)}] {entry.peer} {entry.setting}: median {table.fmt(r['median_digits'])} digits, "
             f"{table.fmt(r['seconds_per_start'], '.2e')} s per start-period, flagged: "
             f"{', '.join(r['kinds_flagged']) or '-'} ({r['wall_seconds']:.0f} s)")
         doc = table.document(rows, skipped, scenes, quick, time.perf_counter() - t0, score_options)
         write(doc, out)
+    doc = table.document(rows, skipped, scenes, quick, time.perf_counter() - t0, score_options)
+    write(doc, out)
     say(f"league: {doc['goal']['text']}")
     return doc
+
+
+def _card_file(out: pathlib.Path, entry, card) -> str:
+    """Write the row's scorecard to ``out/scorecards/`` (the cases behind the row); its path there."""
+    name = "scorecards/" + re.sub(r"[^A-Za-z0-9.-]+", "-", f"{entry.peer} {entry.setting}") + ".md"
+    (out / "scorecards").mkdir(parents=True, exist_ok=True)
+    (out / name).write_text(card.to_markdown())
+    return name
 
 
 def write(doc, out: pathlib.Path):
