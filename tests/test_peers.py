@@ -22,8 +22,9 @@ from cross_check.score.golden import golden_scene, scene_cases
 from cross_check.tolerances import tol
 
 SCENE = "fig:many:2pi/f=0.2"
-#: golden cases of SCENE: two smooth flights with turns, an impact, a chatter run into wall contact
-NAMES = ("sample-0", "sample-2", "sample-1", "chatter")
+#: golden cases of SCENE: two smooth flights with turns, an impact, a stick and its slip, a chatter run
+#: into wall contact and its release
+NAMES = ("sample-0", "sample-2", "sample-1", "sample-5", "chatter")
 
 
 def _cases(names=NAMES, scene=SCENE):
