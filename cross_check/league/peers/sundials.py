@@ -44,8 +44,9 @@ import math
 
 import numpy as np
 
+from cross_check.score import adapters
+
 METHODS = ("BDF", "Adams")
-EFFECTS = frozenset({"walls", "forcing", "friction", "restitution", "damping", "position_forcing"})
 MAX_NUM_STEPS = 100_000
 #: the rest phases' largest step, as a fraction of the period (the baseline's choice)
 REST_STEPS_PER_PERIOD = 16
@@ -87,6 +88,9 @@ class CvodeFlight:
         self.solvers: dict = {}
         self.ud = [0.0] * 7
 
+    def __getstate__(self):
+        return {"method": self.method, "solvers": {}, "ud": [0.0] * 7}
+
     def _solver(self, rtol, atol):
         from sksundae.cvode import CVODE
         key = (rtol, tuple(atol))
@@ -119,6 +123,9 @@ class CvodeRest:
         self.solvers: dict = {}
         self.ud = [None]
 
+    def __getstate__(self):
+        return {"method": self.method, "solvers": {}, "ud": [None]}
+
     def __call__(self, p, t0, x, threshold, direction, t_end):
         from sksundae.cvode import CVODE
 
@@ -139,41 +146,19 @@ class CvodeRest:
         return t_end, int(res.nfev)
 
 
-class SundialsAdapter:
-    """CVODE ``method`` at ``rtol`` in the careful user's event loop (module docstring).
-    Pickles as its settings; the solvers are built in the process that calls it."""
-
-    effects = EFFECTS
+class SundialsAdapter(adapters.BaselineAdapter):
+    """CVODE ``method`` at ``rtol`` in the careful user's event loop (module docstring): the
+    baseline's adapter with CVODE's flight and rest.  Pickles as its settings; the solvers are
+    built in the process that calls it."""
 
     def __init__(self, method: str = "BDF", rtol: float = 1e-10):
         if method not in METHODS:
             raise ValueError(f"method must be one of {METHODS}, got {method!r}")
         if not (isinstance(rtol, (int, float)) and 1e-14 <= rtol <= 1e-3):
             raise ValueError(f"rtol must be a number in [1e-14, 1e-3], got {rtol!r}")
-        self.method, self.rtol = method, float(rtol)
-        self.name = f"sundials {method} rtol {rtol:.0e}"
-        self._parts = None
-
-    def __getstate__(self):
-        return {"method": self.method, "rtol": self.rtol, "name": self.name, "_parts": None}
-
-    def _runs(self, params, x, v, periods):
-        from cross_check.agreement import baseline
-        from reference.scene import Scene        # the problem definition (the baseline reads a Scene)
-
-        if self._parts is None:
-            self._parts = CvodeFlight(self.method), CvodeRest(self.method)
-        flight, rest = self._parts
-        sc = Scene(**params)
-        return [baseline.stroboscopic(sc, float(a), float(b), periods, rtol=self.rtol, flight=flight, rest=rest)
-                for a, b in zip(x, v)]
-
-    def step(self, params, x, v, periods):
-        runs = self._runs(params, x, v, periods)
-        return np.array([r.x for r in runs]), np.array([r.v for r in runs])
-
-    def events(self, params, x, v):
-        return [[(e.kind, e.t, e.x, e.v, e.v_before) for e in r.events] for r in self._runs(params, x, v, 1)]
+        super().__init__(f"sundials {method} rtol {rtol:.0e}", rtol=float(rtol), flight=CvodeFlight(method),
+                         rest=CvodeRest(method))
+        self.method = method
 
 
 __all__ = ["CvodeFlight", "CvodeRest", "METHODS", "SundialsAdapter"]
