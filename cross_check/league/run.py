@@ -76,7 +76,7 @@ def league(out, quick: bool = False, groups=None, scenes=None, score_options=Non
     out = pathlib.Path(out)
     for group, why in skipped.items():
         say(f"league: skipped {group}: {why}")
-    t0, rows = time.perf_counter(), []
+    t0, rows, load = time.perf_counter(), [], os.getloadavg()[0]
     for i, entry in enumerate(chosen, 1):
         say(f"league: [{i}/{len(chosen)}] {entry.peer} {entry.setting} ...")
         r, card = run_entry(entry, scenes, score_options, say)
@@ -85,9 +85,9 @@ def league(out, quick: bool = False, groups=None, scenes=None, score_options=Non
         say(f"league: [{i}/{len(chosen)}] {entry.peer} {entry.setting}: median {table.fmt(r['median_digits'])} digits, "
             f"{table.fmt(r['seconds_per_start'], '.2e')} s per start-period, flagged: "
             f"{', '.join(r['kinds_flagged']) or '-'} ({r['wall_seconds']:.0f} s)")
-        doc = table.document(rows, skipped, scenes, quick, time.perf_counter() - t0, score_options)
+        doc = table.document(rows, skipped, scenes, quick, time.perf_counter() - t0, score_options, load)
         write(doc, out)
-    doc = table.document(rows, skipped, scenes, quick, time.perf_counter() - t0, score_options)
+    doc = table.document(rows, skipped, scenes, quick, time.perf_counter() - t0, score_options, load)
     write(doc, out)
     say(f"league: {doc['goal']['text']}")
     return doc

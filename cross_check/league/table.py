@@ -26,8 +26,11 @@ is printed.
 """
 from __future__ import annotations
 
+import importlib.metadata
 import json
 import math
+import os
+import platform
 
 import numpy as np
 
@@ -36,6 +39,9 @@ from cross_check.score.golden import scene_cases
 GOAL_DIGITS, PEER_DIGITS = 15.0, 10.0
 GOAL_ROW = ("fast", "threads 1")
 FORMAT_VERSION = 1
+#: the distributions whose versions a league records
+PEER_DISTRIBUTIONS = ("numpy", "scipy", "mpmath", "numba", "heyoka", "scikit-sundae", "diffrax", "jax",
+                      "optimistix", "mujoco")
 
 
 def _expected_events(scenes) -> dict:
@@ -98,11 +104,24 @@ def goal(rows) -> dict:
             "ratio": ratio, "met": met, "text": text}
 
 
-def document(rows, skipped, scenes, quick, seconds, score_options) -> dict:
+def machine(load_at_start=None) -> dict:
+    """Where the times were taken: cores, load averages (1 min) at the start and now, and the
+    versions of the installed peers (read from their metadata, nothing imported)."""
+    versions = {}
+    for dist in PEER_DISTRIBUTIONS:
+        try:
+            versions[dist] = importlib.metadata.version(dist)
+        except importlib.metadata.PackageNotFoundError:
+            pass
+    return {"cores": os.cpu_count(), "load_at_start": load_at_start, "load_now": os.getloadavg()[0],
+            "python": platform.python_version(), "versions": versions}
+
+
+def document(rows, skipped, scenes, quick, seconds, score_options, load_at_start=None) -> dict:
     """The whole league as JSON-ready data."""
     return {"format_version": FORMAT_VERSION, "quick": quick, "scenes": list(scenes),
             "score_options": {k: v for k, v in score_options.items()}, "rows": rows,
-            "skipped_peers": skipped, "goal": goal(rows), "seconds": seconds}
+            "skipped_peers": skipped, "goal": goal(rows), "seconds": seconds, "machine": machine(load_at_start)}
 
 
 def to_json(doc) -> str:
@@ -147,7 +166,13 @@ def to_markdown(doc) -> str:
     if scene_skips:
         lines += ["Scenes an engine does not model (skipped by the scorer, listed): "
                   + "; ".join(f"{k}: {', '.join(f'`{s}`' for s in v)}" for k, v in scene_skips.items()), ""]
-    lines += ["![work-precision](work_precision.png)", "", f"League run time: {doc['seconds']:.0f} s."]
+    m = doc["machine"]
+    load = f"{m['load_at_start']:.1f} at the start, " if m["load_at_start"] is not None else ""
+    lines += ["![work-precision](work_precision.png)", "",
+              f"League run time: {doc['seconds']:.0f} s on {m['cores']} cores (load average {load}"
+              f"{m['load_now']:.1f} at the end; a call's time includes the scorer's round trip to its worker "
+              "process, milliseconds on a loaded machine: the floor under the fastest engines' times); "
+              + ", ".join(f"{k} {v}" for k, v in m["versions"].items()) + "."]
     return "\n".join(lines) + "\n"
 
 
