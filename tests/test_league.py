@@ -36,6 +36,7 @@ def test_small_league_on_fast_and_the_reference(small_league):
         assert (out / r["scorecard"]).read_text().startswith("# Scorecard:")
     fast = doc["rows"][0]
     assert fast["median_digits"] >= table.GOAL_DIGITS and fast["warmup_seconds"] is not None
+    assert 0 < doc["round_trip_seconds_per_start"] < fast["seconds_per_start"] * 10
     assert doc["goal"]["met"] and doc["goal"]["ratio"] < 1 and "time ratio fast / it" in doc["goal"]["text"]
     assert json.loads((out / "league.json").read_text())["rows"][0]["name"] == "fast threads 1"
     md = (out / "league.md").read_text()
@@ -79,6 +80,10 @@ def test_goal_line_says_no_when_fast_is_slower_or_short_of_digits():
     assert not table.goal([_row("fast", "threads 1", 16.5, 2e-3)] + rows[1:])["met"]       # slower than heyoka
     assert not table.goal([_row("fast", "threads 1", 14.0, 2e-5)] + rows[1:])["met"]       # short of 15 digits
     assert table.goal(rows[1:])["met"] is None
+    # net of the scorer's round trip (reported beside the verdict, which stays on the raw times)
+    net = table.goal(rows, floor=1e-5)
+    assert net["ratio_net_of_round_trip"] == pytest.approx((2e-5 - 1e-5) / (8e-4 - 1e-5)) and net["met"]
+    assert not table.goal([_row("fast", "threads 1", 16.5, 9e-4)] + rows[1:], floor=5e-4)["met"]
 
 
 def test_a_missing_peer_is_skipped_and_said_so(tmp_path, monkeypatch):

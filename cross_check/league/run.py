@@ -27,6 +27,9 @@ from cross_check.score import card as score_card
 from cross_check.score import runner
 from cross_check.score.golden import golden_scene, scene_cases, warmup_case
 
+#: calls of the round-trip measurement (``call_floor``)
+FLOOR_CALLS = 21
+
 
 def warmup_seconds(adapter, scene: str, first_call_timeout: float = runner.FIRST_CALL_TIMEOUT,
                    case_timeout: float = runner.CASE_TIMEOUT) -> float | None:
@@ -44,6 +47,30 @@ def warmup_seconds(adapter, scene: str, first_call_timeout: float = runner.FIRST
     if first.failure is not None or second.failure is not None:
         return None
     return max(0.0, first.seconds - second.seconds)
+
+
+class Echo:
+    """An adapter that does no work (``step`` returns its input): the scorer's round trip to its
+    worker process, which every timed call includes, measured alone."""
+
+    name = "echo"
+    effects = frozenset({"walls", "forcing", "friction", "restitution", "damping", "position_forcing"})
+
+    def step(self, params, x, v, periods):
+        return np.asarray(x, float), np.asarray(v, float)
+
+
+def call_floor(scene: str, calls: int = FLOOR_CALLS) -> float:
+    """The median time of ``calls`` calls of ``Echo`` on ``scene``'s starts through the scorer's
+    runner in a worker process: the floor under every timed call of this run."""
+    cases = scene_cases(scene)
+    args = (dict(cases[0].params), np.array([c.x for c in cases]), np.array([c.v for c in cases]), 1)
+    run = runner.runner(Echo(), in_process=False)
+    try:
+        times = [run.call("step", args, runner.CASE_TIMEOUT).seconds for _ in range(calls)]
+    finally:
+        run.close()
+    return float(np.median(times)) / len(cases)
 
 
 def run_entry(entry, scenes, score_options: dict, say):
@@ -77,6 +104,9 @@ def league(out, quick: bool = False, groups=None, scenes=None, score_options=Non
     for group, why in skipped.items():
         say(f"league: skipped {group}: {why}")
     t0, rows, load = time.perf_counter(), [], os.getloadavg()[0]
+    floor = call_floor(scenes[0])
+    say(f"league: the scorer's round trip to its worker: {floor * 1e6:.0f} us per start of a {scenes[0]} batch "
+        "(the floor under every timed call)")
     for i, entry in enumerate(chosen, 1):
         say(f"league: [{i}/{len(chosen)}] {entry.peer} {entry.setting} ...")
         r, card = run_entry(entry, scenes, score_options, say)
@@ -85,9 +115,9 @@ def league(out, quick: bool = False, groups=None, scenes=None, score_options=Non
         say(f"league: [{i}/{len(chosen)}] {entry.peer} {entry.setting}: median {table.fmt(r['median_digits'])} digits, "
             f"{table.fmt(r['seconds_per_start'], '.2e')} s per start-period, flagged: "
             f"{', '.join(r['kinds_flagged']) or '-'} ({r['wall_seconds']:.0f} s)")
-        doc = table.document(rows, skipped, scenes, quick, time.perf_counter() - t0, score_options, load)
+        doc = table.document(rows, skipped, scenes, quick, time.perf_counter() - t0, score_options, load, floor)
         write(doc, out)
-    doc = table.document(rows, skipped, scenes, quick, time.perf_counter() - t0, score_options, load)
+    doc = table.document(rows, skipped, scenes, quick, time.perf_counter() - t0, score_options, load, floor)
     write(doc, out)
     say(f"league: {doc['goal']['text']}")
     return doc

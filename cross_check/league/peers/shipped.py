@@ -54,8 +54,11 @@ class LazyHeyokaFlight:
 
 
 def heyoka_adapter(tol: float):
-    """heyoka.py at ``tol`` in the careful user's event loop (``adapters.heyoka``'s, at any tol)."""
-    return adapters.BaselineAdapter(f"heyoka taylor {tol:.0e}", flight=LazyHeyokaFlight(tol))
+    """heyoka.py at ``tol`` in the careful user's event loop (``adapters.heyoka``'s, at any tol);
+    ``jit``: its Taylor integrator is compiled (LLVM) on the first flight."""
+    adapter = adapters.BaselineAdapter(f"heyoka taylor {tol:.0e}", flight=LazyHeyokaFlight(tol))
+    adapter.jit = True
+    return adapter
 
 
 __all__ = ["FastSetting", "LazyHeyokaFlight", "heyoka_adapter"]
