@@ -23,7 +23,7 @@ Scenes (golden data shipped with the package):
 * ``QUICK_SCENES`` (44 starts): ``fig:narrow-with-friction`` (eight impacts per period, the hard
   cases, a stick), ``fig:many:2pi/f=0.2`` (flights, chatter, sticking) and
   ``effect:restitution``;
-* ``FULL_SCENES`` (190 starts): every scene with ``w = 2 pi`` (the six ``fig:many:2pi``, the
+* ``FULL_SCENES`` (183 starts): every scene with ``w = 2 pi`` (the six ``fig:many:2pi``, the
   three resonance scenes, position forcing, restitution, damping) and
   ``fig:narrow-with-friction``: every kind of the scorecard, at a cost MuJoCo's smallest step
   can pay (the scenes with ``w = 1`` have six times as many steps per period).

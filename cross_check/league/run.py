@@ -62,7 +62,7 @@ class Echo:
 
 def call_floor(scene: str, calls: int = FLOOR_CALLS) -> float:
     """The median time of ``calls`` calls of ``Echo`` on ``scene``'s starts through the scorer's
-    runner in a worker process: the floor under every timed call of this run."""
+    runner in a worker process, per start: the floor under every timed call of this run."""
     cases = scene_cases(scene)
     args = (dict(cases[0].params), np.array([c.x for c in cases]), np.array([c.v for c in cases]), 1)
     run = runner.runner(Echo(), in_process=False)
@@ -106,7 +106,7 @@ def league(out, quick: bool = False, groups=None, scenes=None, score_options=Non
     t0, rows, load = time.perf_counter(), [], os.getloadavg()[0]
     floor = call_floor(scenes[0])
     say(f"league: the scorer's round trip to its worker: {floor * 1e6:.0f} us per start of a {scenes[0]} batch "
-        "(the floor under every timed call)")
+        f"({floor * len(scene_cases(scenes[0])) * 1e3:.2f} ms a call: the floor under every timed call)")
     for i, entry in enumerate(chosen, 1):
         say(f"league: [{i}/{len(chosen)}] {entry.peer} {entry.setting} ...")
         r, card = run_entry(entry, scenes, score_options, say)

@@ -177,11 +177,12 @@ def to_markdown(doc) -> str:
     load = f"{m['load_at_start']:.1f} at the start, " if m["load_at_start"] is not None else ""
     lines += ["![work-precision](work_precision.png)", "",
               f"League run time: {doc['seconds']:.0f} s on {m['cores']} cores (load average {load}"
-              f"{m['load_now']:.1f} at the end).  A call's time includes the scorer's round trip to its worker "
-              "process (measured with an adapter that does nothing: "
-              + (f"{doc['round_trip_seconds_per_start']:.1e} s per start" if doc.get("round_trip_seconds_per_start")
-                 else "not measured")
-              + "), milliseconds a call on a loaded machine: the floor under the fastest engines' times.  Versions: "
+              f"{m['load_now']:.1f} at the end).  Every timed call includes the scorer's round trip to its worker "
+              "process: "
+              + (f"{doc['round_trip_seconds_per_start']:.1e} s per start, measured at the start with an adapter that "
+                 "does nothing" if doc.get("round_trip_seconds_per_start") else "not measured")
+              + " (on a loaded machine it grows to milliseconds a call, the floor under the fastest engines' times).  "
+              "Versions: "
               + ", ".join(f"{k} {v}" for k, v in m["versions"].items()) + "."]
     return "\n".join(lines) + "\n"
 
