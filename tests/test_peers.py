@@ -125,13 +125,14 @@ def test_mujoco_slide_within_its_first_order_bound():
     assert 1e-6 < c.map_error(x[0], v[0])[0] < 0.1
 
 
-def test_mujoco_unstable_spring_raises_instead_of_a_reset_state(monkeypatch):
+def test_mujoco_unstable_spring_raises_instead_of_a_reset_state(monkeypatch, tmp_path):
     """A wall spring too stiff for the step blows up; MuJoCo then resets the state (time 0, x 0)
     with a warning: ``step`` sees the time and raises, never returns the reset state."""
     pytest.importorskip("mujoco", reason="mujoco is optional (pip install 'vibro-impact-vv[peers]'): "
                                          "the MuJoCo peer is skipped")
     from cross_check.league.peers import mujoco_slide
     monkeypatch.setattr(mujoco_slide, "CONTACT_STEPS", 0.3)      # dt sqrt(K) = 10: past Euler's bound 2
+    monkeypatch.chdir(tmp_path)          # MuJoCo appends its warning to MUJOCO_LOG.TXT in the working directory
     (c,) = _cases(("sample-1",))
     with pytest.raises(RuntimeError, match="stopped early"):
         mujoco_slide.MujocoSlideAdapter(1e-3).step(c.params, *_arrays([c]), 1)

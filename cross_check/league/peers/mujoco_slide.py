@@ -37,7 +37,8 @@ digits, and declares neither restitution nor position forcing):
   large by 0.2% at ten steps (1.6% at five, 9% at three, 47% at two; 0.025% at twenty), while
   the time spent in the wall shifts the position by up to ~``10 dt |v|`` (twenty steps: twice
   that).  The ``timeconst`` form with a small damping ratio is stiffer still and blows up (MuJoCo
-  then resets the state to zero with a warning; ``step`` checks the time and raises).  ``solimp``
+  then resets the state to zero with a warning, which it also appends to ``MUJOCO_LOG.TXT`` in the
+  working directory; ``step`` checks the time and raises).  ``solimp``
   near 1 (0.9999) makes the constraint near-hard.  So **restitution** ``e < 1`` is not exact (it
   would be a damping ratio) and is not declared; a grazing impact, a chatter run and an impact
   at ``t = kT`` are smeared over the spring's ten steps;
