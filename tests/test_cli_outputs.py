@@ -35,6 +35,7 @@ RUNS = {
     "prove": [(("--golden",), "--out", "folder"), (("--golden",), "--json", "file"),
               (("--atlas", "--grid", "2"), "--out", "folder"), (("--intervals",), "--out", "file")],
     "verify": [((EXAMPLE, "--quick"), "--out", "folder")],
+    "league": [(("--quick",), "--out", "folder")],
 }
 
 

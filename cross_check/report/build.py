@@ -17,7 +17,9 @@ section (``sections``, ``precision``, ``plots``):
    one worker process beside sections 1-2 and the untimed part of 3 (collected before the timed
    part of 3, whose timings want both cores);
 6. where the claims hold: the atlas's maps (``python -m cross_check atlas``) when one exists;
-7. machine, versions, seeds; where the time went (a row per section, with seconds).
+7. the league's table (``python -m cross_check league``) when one exists, read from disk
+   (``league_link``: the report runs no peer);
+8. machine, versions, seeds; where the time went (a row per section, with seconds).
 
 One failing part does not take the report down: it is listed under "Failures" at the top and
 the exit status is 1.  Progress goes to stderr, one line per step.  The full report takes under
@@ -37,6 +39,7 @@ from cross_check import outputs, scenefile, scenes
 from cross_check.agreement import baseline, compare
 from cross_check.progress import Progress
 from cross_check.report import plots, precision, sections
+from cross_check.report.league_link import league_section
 from cross_check.report.sections import REF_DPS, TRUTH_DPS
 from cross_check.tolerances import tol
 
@@ -116,7 +119,7 @@ def _claims_process(quick: bool, progress, claims=None):
 
 
 def _measure(plan: Plan, out: pathlib.Path, claims: bool, quick: bool, progress,
-             atlas_dir="atlas") -> tuple[dict, dict, list]:
+             atlas_dir="atlas", league_dir="league") -> tuple[dict, dict, list]:
     """Run every section; return ``(markdown pieces, timings, errors)``.
 
     The schedule for two cores: the claims run in a worker process (which first compiles
@@ -165,6 +168,7 @@ def _measure(plan: Plan, out: pathlib.Path, claims: bool, quick: bool, progress,
     timings["scipy itineraries"] = progress.lap()
     errors += [f"claim {line.split('|')[1].strip()}: FAILED" for line in parts["claims"] if "| FAILED |" in line]
     parts["atlas"] = sections.atlas_section(atlas_dir, out)
+    parts["league"] = league_section(league_dir, out)
     return parts, timings, errors
 
 
@@ -203,6 +207,7 @@ def _markdown(parts: dict, errors: list, plan: Plan, quick: bool) -> list[str]:
     lines += ["## The paper's claims", ""] + parts["claims"]
     lines += ["", "## Proofs of the golden data", ""] + sections.golden_proofs_section()
     lines += ["", "## Where the claims hold: the atlas", ""] + parts["atlas"]
+    lines += ["", "## The league: the field's integrators", ""] + parts["league"]
     return lines + ["", "## Machine, versions, seeds", ""] + sections.machine_section(plan.n_sample, quick)
 
 
@@ -215,7 +220,7 @@ def time_section(timings: dict, total: float) -> list[str]:
 
 
 def build(out_dir, quick: bool = False, claims: bool = True, atlas_dir="atlas",
-          scene_names=None) -> tuple[pathlib.Path, list]:
+          scene_names=None, league_dir="league") -> tuple[pathlib.Path, list]:
     """Compute everything and write ``report.md`` + PNGs into ``out_dir``; return the path
     and the list of parts that failed (they are listed in the report too).
 
@@ -231,7 +236,7 @@ def build(out_dir, quick: bool = False, claims: bool = True, atlas_dir="atlas",
     for pkg in ("reference", "fast"):
         if not compare.available(pkg):
             raise RuntimeError(f"the {pkg} integrator is not available ({pkg}.stroboscopic_map)")
-    parts, timings, errors = _measure(plan, out, claims, quick, progress, atlas_dir)
+    parts, timings, errors = _measure(plan, out, claims, quick, progress, atlas_dir, league_dir)
     lines = _markdown(parts, errors, plan, quick)
     lines += time_section(timings, progress.elapsed)
     progress(f"the report took {progress.elapsed:.1f} s: " + ", ".join(f"{k} {v:.1f} s" for k, v in timings.items()))
@@ -254,6 +259,8 @@ def main(argv=None) -> int:
     parser.add_argument("--quick", action="store_true", help="small run (3 scenes, fewer states), about 10 s")
     parser.add_argument("--atlas", default="atlas", help="where an atlas was written (python -m cross_check "
                         "atlas); its maps are shown when present (default: atlas/)")
+    parser.add_argument("--league", default="league", help="where a league was written (python -m cross_check "
+                        "league); its table is included when present (default: league/)")
     parser.add_argument("--skip-claims", action="store_true",
                         help="leave out the claims table (python -m cross_check claims runs it alone)")
     scenefile.add_arguments(parser, "agreement and hard cases on")
@@ -265,7 +272,7 @@ def main(argv=None) -> int:
         return 2
     try:
         path, errors = build(args.out, args.quick, claims=not args.skip_claims, atlas_dir=args.atlas,
-                             scene_names=user)
+                             scene_names=user, league_dir=args.league)
     except RuntimeError as exc:
         print(f"report: {exc}", file=sys.stderr)
         return 1
