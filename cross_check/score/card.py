@@ -103,7 +103,7 @@ def score_scene(adapter, name: str, periods=(1, 10), *, run=None, budget=None, s
     ``cut``: the run's ``cutoff.KindCutoff`` (default: none, every start runs)."""
     own = run is None
     run = runner.runner(adapter) if own else run
-    budget = budget or runner.Budget(CASE_TIMEOUT, FIRST_CALL_TIMEOUT)
+    budget = budget or runner.Budget(CASE_TIMEOUT, FIRST_CALL_TIMEOUT, ungraded=(TEN,))
     try:
         cases = scene_cases(name, golden_dir)
         sc = golden_scene(name, golden_dir)
@@ -196,7 +196,8 @@ def score(adapter, *, scenes=None, periods=(1, 10), progress=None, case_timeout:
     if unknown:
         raise ValueError(f"unknown scene(s) {unknown}: no golden data for them in {golden.files(golden_dir)}; "
                          f"it has: {', '.join(have)}")
-    budget = runner.Budget(case_timeout, first_call_timeout, multiple=budget_multiple, floor=budget_floor)
+    budget = runner.Budget(case_timeout, first_call_timeout, multiple=budget_multiple, floor=budget_floor,
+                           ungraded=(TEN,))
     cut = KindCutoff(kind_timeouts)
     say = progress or (lambda m: None)
     run = runner.runner(adapter, in_process, setup_budget=max(budget.first, isolate.SETUP_BUDGET))

@@ -215,12 +215,13 @@ class Budget:
     multiple x median))`` (``median``: seconds per start and period of the method's completed
     calls, once ``min_starts`` completed; the cap until then): a start in the near-grazing band
     (never graded), a start of a kind that already has a graded failure in the run (graded F
-    whatever follows), and the ten-period calls (not graded; the short budget is per call, not per
-    period: at the default multiple twice a typical ten-period call, or the floor).  A graded start
-    of any other kind keeps the cap.  ``multiple=0`` switches the short budget off."""
+    whatever follows), and a call of a kind in ``ungraded`` (the scorer's ten-period calls; the
+    short budget is per call, not per period: at the default multiple twice a typical ten-period
+    call, or the floor).  A graded start of any other kind keeps the cap.  ``multiple=0``
+    switches the short budget off."""
 
     def __init__(self, per_start: float, first: float, *, multiple: float = BUDGET_MULTIPLE,
-                 floor: float = BUDGET_FLOOR, min_starts: int = BUDGET_MIN_STARTS):
+                 floor: float = BUDGET_FLOOR, min_starts: int = BUDGET_MIN_STARTS, ungraded=()):
         for name, value in (("case_timeout", per_start), ("first_call_timeout", first), ("budget_floor", floor)):
             if not (isinstance(value, (int, float)) and np.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be a positive number of seconds, got {value!r}")
@@ -230,7 +231,7 @@ class Budget:
         self.multiple, self.floor, self.min_starts = float(multiple), float(floor), int(min_starts)
         self._seen: set = set()
         self.times: dict = {}           # method -> seconds per start and period of completed calls
-        self.failed: set = set()        # kinds with a graded failure in the run
+        self.failed: set = set(ungraded)    # kinds with a graded failure in the run, or never graded
         self.hung = False               # the adapter has run out of time once in the run
 
     def first_time(self, key) -> bool:

@@ -156,7 +156,7 @@ class Scorecard:
                 f"warm-up call of step and of events on each set of effects); {b['isolation']}"
                 + (f"; {b['restarts']} worker restart(s)" if b.get("restarts") else ""))
         if b.get("short_budget") is not None:
-            line += (f".  After the first timeout: {b['short_budget']:.3g} s per period (max(floor "
+            line += (f".  After the first timeout: {b['short_budget']:.3g} s per call (max(floor "
                      f"{b['budget_floor']:g} s, {b['budget_multiple']:g} x the median start "
                      + (f"{b['median_seconds']:.2g} s" if b.get("median_seconds") is not None else "(too few yet)")
                      + ")) for starts in the band, of kinds already failed, and over ten periods; the cap for the rest")
