@@ -50,12 +50,12 @@ from cross_check.agreement import compare
 from cross_check.progress import Progress
 from cross_check.score import adapters, isolate, runner
 from cross_check.score.cutoff import KIND_TIMEOUTS, NOT_RUN, SCENES_RUNNING, KindCutoff, kind_timeouts_arg
-from cross_check.score.golden import easiest, golden_scene, scene_cases, timeout_message, warmup_case
+from cross_check.score.golden import (easiest, golden_scene, scene_cases, ten_period_cases, timeout_message,
+                                      warmup_case)
 from cross_check.score.protocol import BadAdapter, load_adapter
 from cross_check.score.sheet import CaseScore, Scorecard
 
 TEN_DPS = 40          # the reference's digits for the ten-period truth
-TEN_STATES = 2        # sample states per scene scored over ten periods
 TEN = "ten periods"   # the ten-period calls' kind for the budget and the cut-off (never graded)
 CASE_TIMEOUT, FIRST_CALL_TIMEOUT = runner.CASE_TIMEOUT, runner.FIRST_CALL_TIMEOUT
 
@@ -143,9 +143,9 @@ def score_scene(adapter, name: str, periods=(1, 10), *, run=None, budget=None, s
 def _ten_periods(run, params, sc, cases, scores, budget, say, cut=None):
     """Digits after ten periods against the reference at ``TEN_DPS`` on sample states outside the
     band (``None``: failed, or not tried because its first period ran out of time or was not run).
-    For the budget and the cut-off the ten-period calls are one kind of their own, ``TEN``: not
-    graded, so never flagged."""
-    picked = [i for i, c in enumerate(cases) if c.name.startswith("sample") and not c.band][:TEN_STATES]
+    For the budget and the cut-off the ten-period calls are one kind of their own, ``TEN``: never
+    graded (``runner.Budget``'s ``ungraded``: the short budget once the adapter has timed out)."""
+    picked = ten_period_cases(cases)
     tried = [i for i in picked if scores[i].failure_kind not in ("timeout", "crash", NOT_RUN)]
     got = {}
     if tried:
@@ -270,7 +270,14 @@ def build_parser() -> argparse.ArgumentParser:
                     "scorecard.md and scorecard.json after every scene (marked incomplete until the last).  "
                     "Exit status: 0 every kind passes, 1 a kind is flagged, 2 bad arguments or a bad adapter, "
                     "130/143 interrupted by SIGINT/SIGTERM (the scorecard so far is kept).")
-    parser.add_argument("adapter", help="MODULE:NAME of an adapter, or fast | reference | scipy | heyoka")
+    parser.add_argument("adapter", nargs="?", help="MODULE:NAME of an adapter, or fast | reference | scipy | heyoka "
+                        "(or, instead, --results FILE or --export-problems DIR)")
+    parser.add_argument("--export-problems", metavar="DIR", default=None,
+                        help="write the selected problems for an integrator in any language (DIR/problems.csv, "
+                             "problems.json, FORMAT.md) and exit")
+    parser.add_argument("--results", metavar="FILE", default=None,
+                        help="grade a results file (results.csv or results.json, FORMAT.md) written for the "
+                             "problems of the same selection flags, as an adapter")
     parser.add_argument("--scenes", nargs="+", metavar="NAME", choices=list(scene_table.SCENES),
                         help="only these built-in scenes (default: all with golden data)")
     parser.add_argument("--golden-dir", metavar="DIR", default=None,
@@ -314,9 +321,35 @@ def _write(card: Scorecard, out: pathlib.Path):
         os.replace(tmp, out / name)
 
 
+def _writable(path: pathlib.Path, option: str):
+    """``path`` is a directory this process can write into (made if need be), or ``ValueError``."""
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        probe = path / ".score-write-check"
+        probe.write_text("")
+        probe.unlink()
+    except OSError as exc:
+        raise ValueError(f"{option} {path}: cannot write there ({exc.strerror or exc})") from None
+
+
+def _source(args, names):
+    """What ``main`` scores: the adapter spec, or a results file read as an adapter (``results``),
+    with the keywords that go with it; ``ValueError`` for a bad combination or a malformed file."""
+    given = [a for a in (args.adapter, args.results, args.export_problems) if a is not None]
+    if len(given) != 1:
+        raise ValueError("give exactly one of ADAPTER, --results FILE, --export-problems DIR")
+    if args.results is None:
+        return args.adapter, {}
+    from cross_check.score import problems, results
+    rows = problems.problems(names or None, tuple(args.periods), args.golden_dir)
+    # every row of the file is graded: nothing to save by cutting kinds, no time to budget
+    return results.ResultsAdapter(args.results, rows), {"in_process": True, "kind_timeouts": 0, "budget_multiple": 0}
+
+
 def main(argv=None) -> int:
-    """``python -m cross_check score ADAPTER [--scenes ...] [--scenes-file FILE] [--scene "..."]
-    [--golden-dir DIR] [--periods 1 [10]] [--out DIR] [--case-timeout S] [--first-call-timeout S] [--in-process] [--debug]``."""
+    """``python -m cross_check score ADAPTER|--results FILE|--export-problems DIR [--scenes ...]
+    [--scenes-file FILE] [--scene "..."] [--golden-dir DIR] [--periods 1 [10]] [--out DIR]
+    [--case-timeout S] [--first-call-timeout S] [--kind-timeouts K] [--in-process] [--debug]``."""
     args = build_parser().parse_args(argv)
     out, last = pathlib.Path(args.out), []
     say = Progress()
@@ -334,12 +367,21 @@ def main(argv=None) -> int:
 
     try:
         names = (args.scenes or []) + scenefile.from_args(args)
+        adapter, keywords = _source(args, names)
+        if args.export_problems is not None:
+            from cross_check.score import problems
+            _writable(pathlib.Path(args.export_problems), "--export-problems")
+            for path in problems.export(args.export_problems, names or None, tuple(args.periods), args.golden_dir):
+                print(path)
+            return 0
+        _writable(out, "--out")
+        settings = {"in_process": args.in_process or None, "kind_timeouts": args.kind_timeouts,
+                    "budget_multiple": args.budget_multiple, **keywords}
         with _stop_on_signals():
-            card = score(args.adapter, scenes=names or None, periods=tuple(args.periods), progress=say,
-                         golden_dir=args.golden_dir,
-                         case_timeout=args.case_timeout, first_call_timeout=args.first_call_timeout,
-                         in_process=args.in_process or None, checkpoint=checkpoint, kind_timeouts=args.kind_timeouts,
-                         budget_multiple=args.budget_multiple, budget_floor=args.budget_floor)
+            card = score(adapter, scenes=names or None, periods=tuple(args.periods), progress=say,
+                         golden_dir=args.golden_dir, case_timeout=args.case_timeout,
+                         first_call_timeout=args.first_call_timeout, checkpoint=checkpoint,
+                         budget_floor=args.budget_floor, **settings)
     except (KeyboardInterrupt, Stopped) as exc:
         name = getattr(exc, "signame", "SIGINT")
         return stop(f"interrupted by {name}", 128 + signal.Signals[name].value)

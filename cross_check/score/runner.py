@@ -92,6 +92,8 @@ class InProcess:
             value = protocol.call(self.adapter, self.who, method, *args)
         except protocol.BadAdapter:
             raise
+        except protocol.ReportedTimeout as exc:
+            return Outcome(failure=str(exc)[:200], kind="timeout", seconds=time.perf_counter() - t0, budget=budget)
         except Exception as exc:  # noqa: BLE001 -- an adapter's exception is its failure, recorded
             return Outcome(failure=f"{type(exc).__name__}: {str(exc)[:200]}", kind="exception",
                            seconds=time.perf_counter() - t0)
@@ -147,6 +149,8 @@ class Isolated:
         except isolate.RemoteError as exc:
             if isinstance(exc.original, protocol.BadAdapter) or exc.type_name == "BadAdapter":
                 raise _bad(exc, self.source) from None
+            if exc.type_name == "ReportedTimeout":
+                return Outcome(failure=exc.message[:200], kind="timeout", budget=budget)
             return Outcome(failure=f"{exc.type_name}: {exc.message[:200]}", kind="exception")
         if len(args[1]) == 1:          # a call on one start that worked: warms a restarted process
             self.worker.warmups[method] = (fn, (self.source, method, *args))
