@@ -186,6 +186,7 @@ MALFORMED = [  # (file name, content, what the one line must say)
     ("results.csv", "id,x,v,j11,j12\n1,0.5,0.25,1,0\n", "line 1, field 'j21': missing column"),
     ("results.csv", "id,x,v\n\n", "line 2: an empty row"),
     ("results.csv", "", "line 1: empty: no header"),
+    ("results.csv", "\ufeffid,x,v\n1,0.5,0.25\n1,0.5,0.25\n", "line 3, field 'id': id 1 given twice"),
     ("results.json", '{"results": [{"id": 1, "x": 0.5, "v": NaN}]}', "line 1, field 'v': NaN"),
     ("results.json", '{"results": [\n{"id": 1, "x": 0.5, "v": 0.25},\n{"id": 2, "x": 0.5, "w": 1}\n]}',
      "line 3, field 'w': results[1]: unknown field"),

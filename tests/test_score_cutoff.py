@@ -29,6 +29,8 @@ from cross_check.score.cutoff import BAND, NOT_RUN, KindCutoff, kind_timeouts_ar
 from cross_check.score.golden import all_cases, scene_cases
 from reference.scene import EFFECTS
 
+pytest_plugins = ["pytester"]
+
 #: seconds a worker restart may take beside the budget it ends (a spare process, warmed in the
 #: background, takes over: 0.1 s idle, up to 1 s at load 7 on 2 cores), and for the warm-up call and
 #: the scoring itself in a run of two scenes (3 s at load 7)
@@ -271,8 +273,6 @@ def test_cli_kind_timeouts_and_budget_options(tmp_path, capsys):
 
 
 # --- the pytest plugin: --golden-kind-timeouts ---------------------------------------------------
-pytest_plugins = ["pytester"]
-
 USER_TESTS = """
 import numpy as np
 from adapters_for_tests import sticky_in_c

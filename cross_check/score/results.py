@@ -227,7 +227,7 @@ def read(path, problems) -> dict:
     except OSError as exc:
         raise where.error(f"cannot be read ({exc.strerror or exc})") from None
     try:
-        text = raw.decode("utf-8")
+        text = raw.decode("utf-8-sig")          # a byte-order mark (some editors write one) is no field
     except UnicodeDecodeError as exc:
         raise where.error(f"not UTF-8 text (byte {exc.start})", raw.count(b"\n", 0, exc.start) + 1) from None
     known = {p.id for p in problems}
