@@ -272,7 +272,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "130/143 interrupted by SIGINT/SIGTERM (the scorecard so far is kept).")
     parser.add_argument("adapter", nargs="?", help="MODULE:NAME of an adapter, or fast | reference | scipy | heyoka "
                         "(or, instead, --results FILE or --export-problems DIR)")
-    parser.add_argument("--export-problems", metavar="DIR", default=None,
+    parser.add_argument("--export-problems", metavar="DIR", default=None, type=outputs.check_folder,
                         help="write the selected problems for an integrator in any language (DIR/problems.csv, "
                              "problems.json, FORMAT.md) and exit")
     parser.add_argument("--results", metavar="FILE", default=None,
@@ -321,17 +321,6 @@ def _write(card: Scorecard, out: pathlib.Path):
         os.replace(tmp, out / name)
 
 
-def _writable(path: pathlib.Path, option: str):
-    """``path`` is a directory this process can write into (made if need be), or ``ValueError``."""
-    try:
-        path.mkdir(parents=True, exist_ok=True)
-        probe = path / ".score-write-check"
-        probe.write_text("")
-        probe.unlink()
-    except OSError as exc:
-        raise ValueError(f"{option} {path}: cannot write there ({exc.strerror or exc})") from None
-
-
 def _source(args, names):
     """What ``main`` scores: the adapter spec, or a results file read as an adapter (``results``),
     with the keywords that go with it; ``ValueError`` for a bad combination or a malformed file."""
@@ -370,11 +359,9 @@ def main(argv=None) -> int:
         adapter, keywords = _source(args, names)
         if args.export_problems is not None:
             from cross_check.score import problems
-            _writable(pathlib.Path(args.export_problems), "--export-problems")
             for path in problems.export(args.export_problems, names or None, tuple(args.periods), args.golden_dir):
                 print(path)
             return 0
-        _writable(out, "--out")
         settings = {"in_process": args.in_process or None, "kind_timeouts": args.kind_timeouts,
                     "budget_multiple": args.budget_multiple, **keywords}
         with _stop_on_signals():
