@@ -26,6 +26,8 @@ it: a stick in flight, an impact elsewhere, a speed outside the claimed ball.
   stop together, so a check of either one alone went unseen.)
 * ``_itinerary`` on hand-made balls: a grazing ``A`` or ``B`` (a ball holding 0, or
   exactly 0), restitution reaching 0, a flight of zero duration.
+* A scene with position forcing, which the closed forms do not have: refused by name (it was
+  proved as if it had none: the one false proof found on the shipped code, fixed in impacts).
 * A section on an impact at ``r``; a leg whose speed ball holds only part of the orbits'
   speeds; a flight past ``l``; orbits that stick on the flight back to the section; orbits of
   ``e = 0.9`` said to enter the impact box of ``e = 1``.
@@ -309,6 +311,17 @@ def test_a_flight_of_zero_duration_is_refused(x1_point, flight):
         assert (d1 if flight.startswith("up") else d2).contains(0)
         why = I._itinerary(K, p, 1)
         assert why is not None and "durations" in why, why
+
+
+@pytest.mark.sensitive
+def test_a_scene_with_position_forcing_is_refused_by_name():
+    """The closed-form flights have ``F cos(w t)``, not ``F cos(k x) cos(w t)``: a scene with a
+    wavenumber is refused, not proved as if it had none.  (It was proved: x1's state at
+    ``k = pi/40``, which the point reference maps one period on to another state.)"""
+    base = ParamBox(F=1, f="0.3", omega=1, l=0, r=20)
+    forced = Scene(F=1, f="0.3", omega=1, l=0, r=20, wavenumber="pi/40")
+    with pytest.raises(ValueError, match="wavenumber"):
+        I.prove_two_impacts(forced, impact_guess(base, 1), ticks=section_ticks(base.midpoint(), 1))
 
 
 # --- the section, legs and flights of the uniqueness argument ---------------------------
