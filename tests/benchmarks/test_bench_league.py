@@ -10,30 +10,17 @@ is milliseconds a call and sets fast's time, so read the ratio beside the load.
 """
 import json
 import os
-import resource
-import subprocess
 import sys
 
 import pytest
 
 
-def _cpu() -> float:
-    use = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return use.ru_utime + use.ru_stime
-
-
 @pytest.mark.benchmark(group="league")
-def test_bench_league_quick(benchmark, tmp_path):
+def test_bench_league_quick(benchmark, tmp_path, timed_command):
     argv = [sys.executable, "-m", "cross_check", "league", "--quick", "--out", str(tmp_path)]
     cpu = []
 
-    def run():
-        before = _cpu()
-        status = subprocess.run(argv, capture_output=True).returncode
-        cpu.append(_cpu() - before)
-        return status
-
-    status = benchmark.pedantic(run, rounds=1, iterations=1)
+    status = benchmark.pedantic(timed_command, args=(argv, cpu), rounds=1, iterations=1)
     doc = json.loads((tmp_path / "league.json").read_text())
     goal = doc["goal"]
     benchmark.extra_info.update(cpu_s=cpu[0], ratio=goal["ratio"], ratio_net=goal["ratio_net_of_round_trip"],
