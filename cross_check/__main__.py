@@ -10,9 +10,12 @@ Commands (each has its own ``--help``):
 * ``sensitivity`` -- the suite's checks on a catalogue of faulty integrators, ``cross_check.sensitivity``;
 * ``atlas``   -- the claims over parameter space on Dask, ``cross_check.atlas``;
 * ``prove``   -- computer-assisted proofs: the golden data and the paper's orbits, ``cross_check.proofs``;
-* ``verify``  -- the whole V&V on the user's scenes (a TOML scene file), ``cross_check.verify``.
+* ``verify``  -- the whole V&V on the user's scenes (a TOML scene file), ``cross_check.verify``;
+* ``league``  -- the field's integrators (SUNDIALS, diffrax, MuJoCo, ...) graded side by side, ``cross_check.league``.
 
-Bad arguments give one line on stderr and exit status 2 (argparse's convention).
+Bad arguments give one line on stderr and exit status 2 (argparse's convention); so does an
+output that cannot be written (every ``--out`` is checked before the work starts,
+``cross_check.outputs``; an ``OSError`` naming a file later on gives the same one line).
 """
 from __future__ import annotations
 
@@ -29,6 +32,7 @@ COMMANDS = {
     "sensitivity": ("cross_check.sensitivity", "which check catches which fault: a catalogue of faulty integrators"),
     "prove": ("cross_check.proofs", "computer-assisted proofs: golden data enclosures, the paper's periodic orbits"),
     "verify": ("cross_check.verify", "the whole V&V on your scenes (SCENES.toml): golden data, proofs, orbits, scores"),
+    "league": ("cross_check.league", "the field's integrators graded side by side: league table and work-precision"),
 }
 
 USAGE = "usage: python -m cross_check {" + ",".join(COMMANDS) + "} [options]"
@@ -96,6 +100,10 @@ def main(argv=None) -> int:
     except SystemExit as exc:   # --help of a subcommand exits 0; keep other codes
         code = exc.code
         return code if isinstance(code, int) else (0 if code is None else 2)
+    except OSError as exc:      # an output the parse-time check could not foresee (cross_check.outputs)
+        if exc.filename is None:
+            raise
+        return _fail(f"{cmd}: {exc.filename!s}: {exc.strerror or exc}")
     return 0 if status is None else int(status)
 
 

@@ -42,7 +42,7 @@ import sys
 import mpmath
 
 from cross_check.agreement import compare
-from cross_check import scenefile, scenes
+from cross_check import outputs, scenefile, scenes
 from cross_check.progress import Progress
 from cross_check.tolerances import tol
 from reference.enclosure import enclose_map
@@ -365,6 +365,11 @@ def main(argv=None) -> int:
         return 2
     names = (args.scenes or ([] if user else list(scenes.SCENES))) + user
     out = args.out or (str(DEFAULT_DIR) if not user else "golden")
+    try:
+        outputs.check_folder(out)
+    except outputs.Unwritable as exc:
+        print(f"golden: {exc}", file=sys.stderr)
+        return 2
     if not compare.available("reference"):
         print("golden: the reference integrator is not available (reference.stroboscopic_map)", file=sys.stderr)
         return 2

@@ -33,7 +33,7 @@ import time
 from decimal import Decimal
 from fractions import Fraction
 
-from cross_check import golden, scenefile, scenes
+from cross_check import golden, outputs, scenefile, scenes
 from cross_check.paper import claims
 
 
@@ -119,7 +119,9 @@ def main(argv=None) -> int:
     ap.add_argument("--golden-dir", metavar="DIR", default=None,
                     help="--golden: the golden data of DIR (written by `golden` or `verify`), not the shipped data")
     scenefile.add_arguments(ap, "--golden: prove the golden data of")
-    ap.add_argument("--json", metavar="FILE", help="write what was proved as JSON")
+    ap.add_argument("--json", metavar="FILE", type=outputs.check_file, help="write what was proved as JSON")
+    ap.add_argument("--out", metavar="DIR", type=outputs.check_folder,
+                    help="write what was proved as DIR/proofs.json")
     ap.add_argument("--atlas", action="store_true",
                     help="the proved atlas over (f/F, w^2 R/F) boxes, on Dask (see prove --atlas --help)")
     ap.add_argument("--intervals", action="store_true",
@@ -156,7 +158,8 @@ def main(argv=None) -> int:
         out["golden"] = totals
     if run_orbits:
         out["orbits"] = prove_orbits(progress=lambda m: print(m, flush=True))
-    if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(out, fh, indent=1, default=str)
+    for path in filter(None, (args.json, args.out and args.out / "proofs.json")):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(out, indent=1, default=str))
+        print(f"wrote {path}")
     return status

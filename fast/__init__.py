@@ -14,11 +14,11 @@ Every function runs on every core available to the process (``default_threads()`
 environment variable ``VIBRO_THREADS`` or a ``threads=`` keyword overrides it).
 """
 from .api import (MAX_EVENTS, flow, jacobian, map_and_jacobian, orbit, stroboscopic_map, validate_scene,
-                  zero_velocity)
+                  warm_up, zero_velocity)
 from .batch import default_threads
 from .eventlog import Event, EventLog, events
 from .state import KINDS
 
 __all__ = ["stroboscopic_map", "jacobian", "orbit", "zero_velocity", "events",
            "map_and_jacobian", "flow", "Event", "EventLog", "KINDS", "MAX_EVENTS", "default_threads",
-           "validate_scene"]
+           "validate_scene", "warm_up"]

@@ -2,8 +2,10 @@
 shapes (the public function validates and converts; the compiled core trusts its input).
 
 Inputs ``x, v`` are numbers or arrays of real numbers (bool, complex, object and string
-arrays are a ``TypeError``; a value that is not finite, or a position outside the walls, a
-``ValueError`` naming the offending entries); they broadcast together and the results
+arrays are a ``TypeError``; a value that is not finite, a position outside the walls or a
+speed above the engine's ``max_speed`` (``1e100``; under position forcing
+``2^30 w/(S k)``, ``fast.ode.max_speed``), a ``ValueError`` naming the offending entries and
+the bound); they broadcast together and the results
 have the broadcast shape.  ``periods = 0`` is the identity (as in ``reference``).
 
 ``max_events`` bounds the events of each state in one call (a chatter tail counts as one):
@@ -20,6 +22,7 @@ from __future__ import annotations
 import functools
 import math
 import numbers
+import time
 
 import numpy as np
 
@@ -64,12 +67,12 @@ def _real_array(name, a):
 
 
 def _validate(engine, P, x, v):
-    """Broadcast ``x, v`` to float64 arrays; finite, with ``l <= x <= r``."""
+    """Broadcast ``x, v`` to float64 arrays; finite, with ``l <= x <= r`` and ``|v| <= V_MAX``."""
     x, v = _real_array("x", x), _real_array("v", v)
     if x.shape != v.shape:
         x, v = np.broadcast_arrays(x, v)
     l, r = float(P[engine.p.L]), float(P[engine.p.R])
-    if _fine(x, v, l, r):
+    if _fine(x, v, l, r, engine.max_speed(P)):
         return x, v
     for name, a in (("x", x), ("v", v)):
         bad = ~np.isfinite(a)
@@ -80,15 +83,26 @@ def _validate(engine, P, x, v):
     if bad.any():
         raise ValueError(f"fast: {_items('x', x, bad)} is outside the walls [{l!r}, {r!r}] "
                          f"({int(bad.sum())} state(s) in all)")
+    bad = abs(v) > engine.max_speed(P)
+    if bad.any():
+        raise ValueError(f"fast: {_items('v', v, bad)} is above |v| <= {engine.max_speed(P):.6g}, the largest "
+                         f"speed fast holds in this scene ({int(bad.sum())} state(s) in all): "
+                         f"{_SPEED_WHY[engine.__name__]}; the reference runs such states (at enough dps)")
     return x, v
 
 
-def _fine(x, v, l, r):
-    """All ``l <= x <= r`` and ``v`` finite (NaN fails both comparisons; the usual case in one
+#: why each engine has its speed bound (``max_speed`` of ``fast.loop`` and ``fast.ode``)
+_SPEED_WHY = {"fast.loop": "FAST_MAX, the magnitudes the loop's products stay normal within (fast.loop.max_speed)",
+              "fast.ode": "a numerical flight steps 2 pi/(S k |v|) and a period takes at most "
+                          "MAX_STEPS_PER_PERIOD = 2^30 steps (fast.ode.max_speed: MAX_STEPS_PER_PERIOD w/(S k))"}
+
+
+def _fine(x, v, l, r, vmax):
+    """All ``l <= x <= r`` and ``|v| <= vmax`` (NaN fails the comparisons; the usual case in one
     pass, in Python for the few states of a Newton step, where numpy's reductions cost more)."""
     if x.size <= _SMALL:
-        return bool(x.size) and all(l <= a <= r for a in x.flat) and all(math.isfinite(b) for b in v.flat)
-    return bool(np.all(x >= l)) and bool(np.all(x <= r)) and bool(np.isfinite(v).all())
+        return bool(x.size) and all(l <= a <= r for a in x.flat) and all(abs(b) <= vmax for b in v.flat)
+    return bool(np.all(x >= l)) and bool(np.all(x <= r)) and bool(np.all(abs(v) <= vmax))
 
 
 def _items(name, a, bad):
@@ -196,3 +210,29 @@ def flow(scene, x, v, t_end, *, max_events=MAX_EVENTS, threads=None):
     engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
     res = _run(engine, P, x, v, t_end, 0.0, max_events, threads)
     return res.x.reshape(x.shape), res.v.reshape(x.shape)
+
+
+def warm_up(*, closed_form: bool = True, position_forcing: bool = True) -> dict:
+    """Compile the kernels of ``fast``'s two engines, or load them from numba's cache, before a
+    real call needs them; return the seconds each took, ``{"closed_form": s, "position_forcing":
+    s}`` (the engines asked for).
+
+    The first call of any function on an engine compiles that engine's whole event loop (one
+    set of kernels serves every function, with or without the Jacobian, any thread count):
+    cold, about 15 CPU s for the closed-form loop (``fast.loop``) and 7 s for the numerical
+    flights of position forcing (``fast.ode``) on the 2-core machine; from the cache, well
+    under a second.  A program that wants the compilation out of its timings, or on another
+    core, calls this first (``python -m cross_check report`` compiles the two engines in two
+    processes at once).  The call is one period of one state of a small scene of each engine."""
+    from reference.scene import Scene
+
+    scenes = {"closed_form": closed_form, "position_forcing": position_forcing}
+    out = {}
+    for name, wanted in scenes.items():
+        if wanted:
+            t0 = time.perf_counter()
+            scene = Scene(F=1, f="0.1", omega=1, l=0, r=1,
+                          wavenumber=1 if name == "position_forcing" else None)
+            map_and_jacobian(scene, 0.5, 0.25, threads=1)
+            out[name] = time.perf_counter() - t0
+    return out

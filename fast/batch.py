@@ -16,7 +16,9 @@ An *engine* is a module with two functions (``fast.loop`` for the closed-form fl
   - ``out_J[i]`` (4 floats, row-major ``Phi'``) when ``jac``, else ``out_J`` has 0 rows;
   - ``out_nev[i]``: the number of events of the state (a chatter tail counts as one);
   - ``out_status[i]``: ``OK``, or why the state stopped (``EVENT_BUDGET``: more than
-    ``max_events`` events; ``LOOP_BOUND``: an inner loop exceeded its bound; ``NON_FINITE``);
+    ``max_events`` events; ``BOUNCE_BUDGET``: the same, in a run of bounces at one wall
+    (``fast.output.out_of_events``); ``LOOP_BOUND``: an inner loop exceeded its bound;
+    ``NON_FINITE``; ``TOO_FAST``: a numerical flight's step below float64's time resolution);
   - ``out_paths[i]``: the code paths the state took, as bits (``fast.state.PATH_*``): the
     evidence that a scene runs only the effects it switches on;
   - events ``j < cap`` of the log (``log_*`` of shape ``(n, cap)``, ``cap = 0`` without a
@@ -40,10 +42,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-OK, EVENT_BUDGET, LOOP_BOUND, NON_FINITE = 0, 1, 2, 3
+OK, EVENT_BUDGET, LOOP_BOUND, NON_FINITE, BOUNCE_BUDGET, TOO_FAST = 0, 1, 2, 3, 4, 5
 _WHY = {EVENT_BUDGET: "more than max_events = {max_events} events",
         LOOP_BOUND: "an inner loop bound was exceeded",
-        NON_FINITE: "a non-finite value appeared"}
+        NON_FINITE: "a non-finite value appeared",
+        BOUNCE_BUDGET: "more than max_events = {max_events} events, the last of them a run of bounces at one "
+                       "wall that does not sum to rest (a bounce shrinks by e sqrt((A - f)/(A + f)): with "
+                       "restitution 1 and no friction it does not, and every bounce is an event); raise "
+                       "max_events to follow them",
+        TOO_FAST: "a numerical flight's step 2 pi/(S k |v|) fell below float64's resolution of times: the "
+                  "speed grew beyond what fast's position-forcing flights hold (fast.ode.max_speed); the "
+                  "reference runs such states"}
 
 #: a process-wide override of the thread count (None: ``default_threads()``, read at each call)
 THREADS = None

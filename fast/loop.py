@@ -32,7 +32,7 @@ from . import state as q
 from .flight import evaluate
 from .handlers import finish, flight_matrix, handle
 from .jit import data_pointer, kernel
-from .output import store
+from .output import out_of_events, store
 from .params import params  # noqa: F401  (the engine's params, fast.batch's contract)
 from .precise import at_end, at_event, end_state, flight_at
 from .roots import CRAWL_ROUNDS, plan, plan_crawl, refine
@@ -41,7 +41,7 @@ EPS = 2.0 ** -52
 MAX_SEGMENT_ROUNDS = 1000
 MAX_SAME_TIME = 50
 _CONTINUE = -1
-OK, EVENT_BUDGET, LOOP_BOUND, NON_FINITE = batch.OK, batch.EVENT_BUDGET, batch.LOOP_BOUND, batch.NON_FINITE
+OK, LOOP_BOUND, NON_FINITE = batch.OK, batch.LOOP_BOUND, batch.NON_FINITE
 
 
 @kernel
@@ -117,7 +117,7 @@ def _events(P, st, code, t, tl, t_end, t_end_lo, tol, jac, max_events, ev):
         if handle(P, st, code, t, tl, xh, xl, vh, vl, (snh, snl, csh, csl), t_end, jac, ev):
             return OK
         if st[q.NEV] > max_events:
-            return EVENT_BUDGET
+            return out_of_events(st)
         if st[q.NSAME] > MAX_SAME_TIME:
             return LOOP_BOUND
         code, t, tl = _from_start(P, st, t_end, t_end_lo, tol, jac)
@@ -125,6 +125,16 @@ def _events(P, st, code, t, tl, t_end, t_end_lo, tol, jac, max_events, ev):
             return OK
         if code == q.NONE:
             return _CONTINUE
+
+
+def max_speed(P) -> float:
+    """The largest ``|v|`` of a start this engine takes (``fast.api``): ``FAST_MAX``, like every
+    constant of the scene (``fast.params``): the loop multiplies up to three such magnitudes
+    (``u^2 + 2 a g`` in ``fast.precise``, ``M3 d^3`` in ``fast.roots``), which stay normal
+    within ``1e+-100``; a faster start overflowed ``v^2`` near 1.3e154 and ran into a loop
+    bound.  Below it a fast state only costs events: about ``|v| T/(r - l)`` impacts a period,
+    within ``max_events``."""
+    return p.FAST_MAX
 
 
 @kernel
@@ -144,7 +154,7 @@ def run_state(P, x, v, t_end, t_end_lo, jac, max_events, st, ev):
             if status != _CONTINUE:
                 return status
         if st[q.NEV] > max_events:
-            return EVENT_BUDGET
+            return out_of_events(st)
         if st[q.NIT] > MAX_SEGMENT_ROUNDS:
             return LOOP_BOUND
         b = st[q.TT]

@@ -39,7 +39,7 @@ from . import batch
 from . import dop853 as dp
 from . import state as q
 from .jit import data_pointer, kernel
-from .output import record, store
+from .output import out_of_events, record, store
 from .params import FAST_MAX, FAST_MIN, check_ranges, check_scene, fast_quantities
 
 EPS = 2.0 ** -52
@@ -48,17 +48,15 @@ NEWTON_ITERS = 60
 GOLDEN_ITERS = 40
 TANGENT_FLOOR = 64 * EPS
 STEPS_PER_PERIOD = 96
-#: impacts at one wall in a run before its tail must be summable (else LOOP_BOUND)
-MAX_BOUNCES = 5000
 #: steps that count as one event against the budget
 STEPS_PER_EVENT = 16
-OK, EVENT_BUDGET, LOOP_BOUND, NON_FINITE = batch.OK, batch.EVENT_BUDGET, batch.LOOP_BOUND, batch.NON_FINITE
+OK, LOOP_BOUND, NON_FINITE = batch.OK, batch.LOOP_BOUND, batch.NON_FINITE
 #: slots of P
 F, FF, DAMP, K, W, E, L, R, T, T_LO = range(10)
 SIZE = 10
 #: modes of the loop, and the event codes of a flight
 FLIGHT, STICK, CONTACT = 0, 1, 2
-NO_EVENT, WALL, VZERO = 0, 1, 2
+NO_EVENT, WALL, VZERO, TOO_FAST = 0, 1, 2, -2
 
 
 class _Slots:
@@ -96,6 +94,14 @@ def params(scene):
 #: (``eps T``, 2^-52 T; a step below it is skipped as "below resolution"), and 2^30 steps are
 #: already over six times the default event budget (1e7 events of 16 steps).
 MAX_STEPS_PER_PERIOD = 2.0 ** 30
+
+
+def max_speed(P) -> float:
+    """The largest ``|v|`` of a start this engine takes (``fast.api``): a flight steps
+    ``2 pi/(S k |v|)`` at speed ``|v|``, and a period may take at most ``MAX_STEPS_PER_PERIOD``
+    steps, so ``|v| <= MAX_STEPS_PER_PERIOD w/(S k)`` (~1.1e7 w/k: more steps than the default
+    event budget runs; far below, the step resolves times in ``[0, T]``), and ``FAST_MAX``."""
+    return min(FAST_MAX, MAX_STEPS_PER_PERIOD * P[W] / (STEPS_PER_PERIOD * P[K])) if P[K] > 0 else FAST_MAX
 
 
 def _quantities(scene):
@@ -223,7 +229,9 @@ def _fly(P, st, wk, t_end, n, max_steps):
     """Integrate the flight from ``(st[TT], wk[Y0])`` with sign ``st[S]`` to its first event
     or ``t_end``: returns ``(code, steps)`` with the time reached in ``st[TT]`` and the state
     there in ``wk[Y0]`` (``x = W`` at a wall event, ``v = 0`` at a velocity zero); code
-    ``-1``: ``max_steps`` exhausted."""
+    ``-1``: ``max_steps`` exhausted; ``TOO_FAST``: the step ``2 pi/(S k |v|)`` fell below
+    float64's resolution of times up to ``t_end`` (it was taken as the end of the flight, and
+    the state came back unchanged: ``|v| = 1e50`` under ``k = 1``)."""
     s = st[q.S]
     wall = P[R] if s > 0.0 else P[L]
     xs = max(1.0, abs(wall))
@@ -231,9 +239,12 @@ def _fly(P, st, wk, t_end, n, max_steps):
     for k in range(max_steps):
         t = st[q.TT]
         x, v = wk[dp.Y0], wk[dp.Y0 + 1]
-        h = min(_step_len(P, abs(v)), t_end - t)
-        if not h > 4 * EPS * abs(t_end):                # what is left is below resolution
-            st[q.TT] = t_end
+        step = _step_len(P, abs(v))
+        h = min(step, t_end - t)
+        if not h > 4 * EPS * abs(t_end):
+            if not step > 4 * EPS * abs(t_end):         # too fast to step through in float64
+                return TOO_FAST, k
+            st[q.TT] = t_end                            # what is left is below resolution
             return NO_EVENT, k
         gw, dgw = _g(P, s, wall, t, x, v, 0)
         gv, dgv = _g(P, s, wall, t, x, v, 1)
@@ -314,16 +325,17 @@ def chatter_tail(P, push, u):
 def _impact(P, st, ev, t, vb, t_end, jac):
     """A wall event with velocity ``vb`` towards the wall ``s``.  Returns ``(mode, t)``:
     ``FLIGHT`` away from the wall, or ``CONTACT`` (a graze, ``e = 0`` held by the force, or a
-    summed chatter tail, whose accumulation time is returned); ``-1``: a run of more than
-    ``MAX_BOUNCES`` impacts that never became summable."""
+    summed chatter tail, whose accumulation time is returned).  A run of impacts that cannot be
+    summed yet (or ever: no friction and ``e = 1`` give ``rho = 1``) goes on bounce by bounce,
+    each an event within ``max_events`` (``fast.output.out_of_events`` names such a run when
+    the budget runs out; an earlier cap of 5000 bounces ended elastic bounces at a gap of 1e-12,
+    millions a period, as a loop bound)."""
     s, e, f = st[q.S], P[E], P[FF]
     wall = P[R] if s > 0.0 else P[L]
     A = _force(P, wall, t)
     tiny_v = 16 * EPS * (P[F] / P[W] + (P[R] - P[L]) * P[W] + f * P[T])
     chn = st[q.CHN]
     st[q.CHN] = chn + s if chn != 0.0 and (chn > 0.0) == (s > 0.0) else s
-    if abs(st[q.CHN]) > MAX_BOUNCES:
-        return -1, t
     st[q.S] = -s
     if abs(vb) <= tiny_v:                           # a graze: at rest on the wall reached
         record(ev, st, q.K_CONTACT, t, wall, 0.0, vb, 0)
@@ -443,7 +455,7 @@ def run_state(P, x, v, t_end, jac, max_events, st, wk, ev):
             return LOOP_BOUND
         budget = (max_events - st[q.NEV]) * STEPS_PER_EVENT - steps
         if budget <= 0:
-            return EVENT_BUDGET
+            return out_of_events(st)
         if t == st[q.TLAST]:
             st[q.NSAME] += 1.0
             if st[q.NSAME] > 50:
@@ -462,8 +474,10 @@ def run_state(P, x, v, t_end, jac, max_events, st, wk, ev):
         st[q.TT] = t
         code, k = _fly(P, st, wk, t_end, n, int(min(budget, 2.0 ** 62)))
         steps += k
+        if code == TOO_FAST:
+            return batch.TOO_FAST
         if code < 0:
-            return EVENT_BUDGET
+            return out_of_events(st)
         t, x, v = st[q.TT], wk[dp.Y0], wk[dp.Y0 + 1]
         if jac:
             _times(st, wk[dp.Y0 + 2], wk[dp.Y0 + 3], wk[dp.Y0 + 4], wk[dp.Y0 + 5])

@@ -4,14 +4,29 @@ its row of the batch's outputs.
 ``record`` appends ``(kind, t, x, v after, v before, count)`` to the state's log ``ev`` (kept
 up to its capacity ``st[CAP]``; ``st[NEV]`` counts every event, so a truncated log is known);
 ``store`` copies a finished state's record ``st`` and log into row ``i`` of the outputs, with
-a non-finite end state turned into ``NON_FINITE``.
+a non-finite end state turned into ``NON_FINITE``; ``out_of_events`` says how a state ran out
+of events.
 """
 from __future__ import annotations
 
 import math
 
 from . import state as q
+from .batch import BOUNCE_BUDGET, EVENT_BUDGET
 from .jit import kernel
+
+#: impacts in one run at one wall (``st[CHN]``) from which a state whose event budget ran out
+#: is said to have spent it on bounces (``BOUNCE_BUDGET``): a run of bounces that does not
+#: shrink (restitution 1, no friction: elastic bounces at a wall the force pushes into, a
+#: gap of 1e-12 makes millions a period) never sums to rest, and every bounce is an event
+BOUNCE_RUN = 1000
+
+
+@kernel(inline=True)
+def out_of_events(st):
+    """The status of a state whose event budget (``max_events``) ran out: ``BOUNCE_BUDGET`` in a
+    run of at least ``BOUNCE_RUN`` impacts at one wall, else ``EVENT_BUDGET``."""
+    return BOUNCE_BUDGET if abs(st[q.CHN]) >= BOUNCE_RUN else EVENT_BUDGET
 
 
 @kernel(inline=True)

@@ -33,7 +33,7 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 #: short flights, the scorecard, the constructed events -- the checks that caught every fault
 #: injected so far (``python -m cross_check sensitivity``), in seconds
 SENSITIVE = ("test_certify_negative.py", "test_walk_negative.py", "test_chatter_tail_negative.py",
-             "test_orbits_negative.py", "test_fast_noise.py",
+             "test_orbits_negative.py", "test_impacts_negative.py", "test_fast_noise.py",
              "test_golden.py", "test_thresholds.py", "test_sensitivity.py", "test_short_flights.py",
              "test_score.py", "test_constructed_events.py")
 #: modules run last: the claims and figures (the slowest), then the CLI end to end

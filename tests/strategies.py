@@ -245,6 +245,36 @@ def log_perturbations(draw):
     return op, where, size
 
 
+# --- enclosures: boxes at x1's sticking boundary (tests/test_impacts_negative.py, issue 34) ---
+def x1_sticking_r(f: Fraction):
+    """``w^2 R / F`` on x1's sticking boundary at ``f/F`` (``F = w = 1``, ``l = 0``): where
+    eq. ``nonstick:cond``'s left side (``reference.paper``, linear in ``R`` with slope 1)
+    vanishes, as an mpf; it falls as ``f`` grows (1.138 at 0.06, 1.058 at 0.3, 0.886 at 0.5)."""
+    import mpmath
+
+    from reference import paper
+
+    sc = Scene(F=1, f=f, omega=1, l=0, r=20)
+    with mpmath.workdps(30):
+        return 20 - paper.nonstick_condition_printed(sc, dps=30)
+
+
+@st.composite
+def sticking_boundary_boxes(draw):
+    """A small ``ParamBox`` (``F = w = 1``, ``l = 0``, ``e = 1``) at x1's sticking boundary:
+    ``f`` from ``f_lo`` in [0.05, 0.6], ``r`` from ``R*(f_lo) (1 + d)`` with ``d`` in
+    [-0.002, 0.04] (the corner ``(f_lo, r_lo)`` is the box's nearest to the boundary, ``R*``
+    falling in ``f``: ``d < 0`` puts it on the sticking side), each width ``10^-4``,
+    ``4 10^-4`` or ``1.6 10^-3`` (about the widest the prover takes this close)."""
+    from reference.enclosure import ParamBox
+
+    f_lo = Fraction(draw(decimals(0.05, 0.6, 3)))
+    d = Fraction(draw(st.integers(-20, 400)), 10000)
+    r_lo = Fraction(round(x1_sticking_r(f_lo) * (1 + float(d)) * 10 ** 5), 10 ** 5)
+    wf, wr = (Fraction(draw(st.sampled_from((1, 4, 16))), 10000) for _ in range(2))
+    return ParamBox(F=1, f=(f_lo, f_lo + wf), omega=1, l=0, r=(r_lo, r_lo + wr))
+
+
 # --- dissip-invariance: scenes for the return-to-rest cover (tests/test_dissip_invariance.py) ----
 @st.composite
 def rest_scenes(draw):

@@ -95,6 +95,13 @@ def test_quick_report_runs_end_to_end(tmp_path):
     assert (out / "work_precision.png").stat().st_size > 10_000
     assert "fig:narrow-with-friction" in text and "grazing" in text
     assert len([ln for ln in proc.stderr.splitlines() if ln.startswith("[")]) >= 4   # progress lines
+    # where the time went: a row per section with its seconds, and the total
+    table = text[text.index("## Where the time went"):].splitlines()
+    rows = {ln.split("|")[1].strip(): float(ln.split("|")[2].strip("* ")) for ln in table if ln.startswith("| ")
+            and not ln.startswith("| section")}
+    for section in ("agreement", "hard cases", "work-precision: timed runs", "scipy itineraries"):
+        assert section in rows, (section, rows)
+    assert 0 < sum(v for k, v in rows.items() if k != "**total** (wall)") <= rows["**total** (wall)"] + 0.5
 
 
 class _FakeClaim:
@@ -133,8 +140,8 @@ def test_the_report_runs_its_claims_in_a_worker_process_or_in_line(monkeypatch):
     seen = []
     pool, future = build._claims_process(True, seen.append, fake)
     with pool:
-        lines, seconds = future.result(timeout=120)
-    assert lines[2].startswith("| fold | reproduced | s |  | quick | ") and seconds >= 0
+        lines, seconds, compiled = future.result(timeout=120)
+    assert lines[2].startswith("| fold | reproduced | s |  | quick | ") and seconds >= compiled >= 0
     assert seen == []                     # the worker's progress went to its own stderr
 
     def refuse(*args, **kwargs):
@@ -143,6 +150,23 @@ def test_the_report_runs_its_claims_in_a_worker_process_or_in_line(monkeypatch):
     monkeypatch.setattr(build, "ProcessPoolExecutor", refuse)
     assert build._claims_process(True, seen.append, fake) == (None, None)
     assert "they run in line" in seen[-1]
+
+
+def test_claims_listed_first_are_computed_first_and_shown_in_the_registry_order():
+    from cross_check.report import sections
+
+    order = []
+
+    class Claim(_FakeClaim):
+        def run(self, quick):
+            order.append(self.row["id"])
+            return super().run(quick)
+
+    claims = {cid: Claim({"id": cid, "statement": "s", "verdict": "reproduced", "corrected": None})
+              for cid in ("a", "b", "c")}
+    lines = sections.claims_section(True, lambda msg: None, claims=claims, first=("c",))
+    assert order == ["c", "a", "b"]
+    assert [ln.split("|")[1].strip() for ln in lines[2:5]] == ["a", "b", "c"]
 
 
 def test_report_iterates_the_claims_registry():

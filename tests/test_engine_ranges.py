@@ -34,6 +34,51 @@ def _fast_params(scene):
 
 
 # --- fast ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("wavenumber", [None, 1], ids=["closed-form", "position-forcing"])
+def test_a_speed_above_v_max_is_refused_by_name_and_v_max_itself_only_costs_events(wavenumber):
+    """Issue 36: ``|v| = 1e300`` was accepted and ran into a loop bound (``v^2`` overflows near
+    1.3e154).  Above ``V_MAX`` a ``ValueError`` names the bound; at it the state runs and only
+    spends its event budget (impacts about ``|v| T / (r - l)`` a period), never a loop bound."""
+    sc = _scene(f="0.1", omega=2, wavenumber=wavenumber)
+    engine, P = fast.api._engine(sc)
+    vmax = engine.max_speed(P)
+    # the closed-form loop holds FAST_MAX; a numerical flight steps 2 pi/(S k |v|), at most 2^30 a period
+    assert vmax == (1e100 if wavenumber is None else 2.0 ** 30 * 2 / (ode.STEPS_PER_PERIOD * 1))
+    for v in (1e300, -1e101, np.nextafter(vmax, np.inf)):
+        with pytest.raises(ValueError, match=r"is above \|v\| <= " + re.escape(f"{vmax:.6g}") + ", the largest speed"):
+            fast.stroboscopic_map(sc, np.array([0.5, 0.5]), np.array([0.0, v]))
+    with pytest.raises(RuntimeError, match=r"more than max_events = 1000 events") as info:
+        fast.stroboscopic_map(sc, 0.5, -vmax, max_events=1000)
+    assert "inner loop bound" not in str(info.value)
+
+
+def test_a_numerical_flight_too_fast_for_float64_time_raises_instead_of_standing_still():
+    """At ``|v| = 1e50`` under ``k = 1`` the step ``2 pi/(S k |v|)`` is far below float64's
+    resolution of ``t``: the flight was taken as finished and the start came back unchanged
+    after a period (a silent wrong answer).  A start so fast is refused (``max_speed``); a
+    motion that reaches such speeds raises ``TOO_FAST`` with the state (the kernel, driven
+    directly past the API's check)."""
+    sc = _scene(f="0.1", wavenumber=1)
+    engine, P = fast.api._engine(sc)
+    with pytest.raises(RuntimeError, match=r"fell below float64's resolution of times"):
+        fast.batch.run(engine, P, np.array([0.5]), np.array([1e50]), P[ode.T], max_events=1000)
+
+
+def test_elastic_bounces_at_a_wall_spend_the_event_budget_and_say_so():
+    """Issue 36: elastic, frictionless bounces against a wall the (position-dependent) force
+    pushes into do not shrink, so no tail can be summed: a start 1e-12 from the wall bounces
+    ~2e5 times before the force turns.  They ran into a cap of 5000 bounces, raised as a loop
+    bound; each is now an event of the caller's budget ``max_events``, and running out of it in
+    such a run says so.  The same holds for the closed-form engine."""
+    for sc in (_scene(wavenumber=1), _scene()):
+        with pytest.raises(RuntimeError, match=r"more than max_events = 20000 events, the last of them a run of "
+                                               r"bounces at one wall that does not sum to rest.*raise max_events"):
+            fast.stroboscopic_map(sc, 1 - 1e-12, 0.0, max_events=20_000)
+    x, v = fast.stroboscopic_map(_scene(wavenumber=1), 1 - 1e-12, 0.0, max_events=400_000)
+    log = fast.events(_scene(wavenumber=1), 1 - 1e-12, 0.0, max_events=400_000)[0]
+    impacts = [e for e in log if e.kind == "impact"]
+    assert len(impacts) > 100_000 and {e.x for e in impacts[:100_000]} == {1.0}    # bounce by bounce at r
+    assert np.isfinite(x) and x < 0.5 and v < 0                            # then the force turned
 def test_the_issue_examples_are_refused_by_name_without_a_warning():
     with pytest.raises(ValueError, match=r"^fast: F = 1\.0e\+309 \(from F = '1e308\*10'\)"):
         fast.stroboscopic_map(_scene(F="1e308*10"), 0.5, 0.0)       # was a loop-bound RuntimeError

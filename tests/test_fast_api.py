@@ -218,3 +218,21 @@ def test_events_of_a_state_without_events():
     log = fast.events(wide, 0.0, 3.0)
     assert log.n == 0 and log[0] == [] and log.kinds(0) == []
     assert log.kind.shape == (0,)
+
+
+def test_warm_up_compiles_the_engines_asked_for_and_then_runs_from_them():
+    """``fast.warm_up`` (issue 36: the report compiles the two engines in two processes at once):
+    the engines asked for, each with its seconds; afterwards a call on either engine compiles
+    nothing new (numba's dispatchers hold one signature each)."""
+    import fast.loop as loop
+    import fast.ode as ode
+
+    assert set(fast.warm_up(position_forcing=False)) == {"closed_form"}
+    got = fast.warm_up(closed_form=False)
+    assert set(got) == {"position_forcing"} and got["position_forcing"] >= 0
+    before = (len(loop.run_range.signatures), len(ode.run_range.signatures))
+    sc = Scene(F=1, f="0.2", omega=2, l=-1, r=1, restitution="0.9", damping="0.1")
+    fast.events(sc, np.array([0.3]), np.array([-0.4]))
+    fast.map_and_jacobian(Scene(F=1, f="0.1", omega=1, l=0, r=2, wavenumber=2), np.array([1.0] * 300),
+                          np.array([0.5] * 300), threads=2)
+    assert (len(loop.run_range.signatures), len(ode.run_range.signatures)) == before == (1, 1)

@@ -107,8 +107,9 @@ def test_bad_threads_keyword(entry, threads, error):
         ENTRY_POINTS[entry](0.1, 0.2, threads)
 
 
-# The exported functions that integrate nothing: they check a scene or report the default.
-NO_EVENT_LOOP = {"default_threads", "validate_scene"}
+# The exported functions that integrate no batch: they check a scene, report the default, or
+# compile the engines on one state (warm_up, on the calling thread).
+NO_EVENT_LOOP = {"default_threads", "validate_scene", "warm_up"}
 
 
 def test_every_exported_function_takes_threads():

@@ -94,12 +94,15 @@ def _rest(p, t0, x, threshold, direction, t_end):
 
 
 def run(scene, x0: float, v0: float, t_end: float, method: str = "DOP853", rtol: float = 1e-10,
-        max_events: int = 20000, flight=None) -> BaselineRun:
+        max_events: int = 20000, flight=None, rest=None) -> BaselineRun:
     """Integrate from ``(x0, v0)`` at ``t = 0`` to ``t_end`` (see the module docstring).
 
     ``flight(p, t0, x0, v0, s, t_end, rtol, atol) -> (t, (x, v), name, nfev)`` replaces
-    solve_ivp's smooth flight (``name``: ``"r"``, ``"l"``, ``"v0"`` or ``"end"``): the same careful
-    event handling around another integrator (``cross_check.score.adapters``' heyoka)."""
+    solve_ivp's smooth flight (``name``: ``"r"``, ``"l"``, ``"v0"`` or ``"end"``), and
+    ``rest(p, t0, x, threshold, direction, t_end) -> (t, nfev)`` its rest phases (the first
+    crossing of ``threshold(t)`` through zero in ``direction`` after ``t0``, ``t_end`` if none):
+    the same careful event handling around another integrator (``cross_check.score.adapters``'
+    heyoka, ``cross_check.league.peers``' SUNDIALS)."""
     if flight is None and method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
     if flight is None:
@@ -127,7 +130,7 @@ def run(scene, x0: float, v0: float, t_end: float, method: str = "DOP853", rtol:
             mode, s = _after_flight_event(p, out, name, t, x, v, s, chatter_speed)
             x, v = out.events[-1].x, out.events[-1].v
         else:
-            t, mode, s = _after_rest(p, out, mode, t, x, t_end)
+            t, mode, s = _after_rest(p, out, mode, t, x, t_end, rest or _rest)
     else:
         raise RuntimeError(f"baseline: more than {max_events} events; state t={t}, x={x}, v={v}, mode={mode}")
     out.x, out.v, out.seconds = x, v, time.perf_counter() - t0
@@ -173,18 +176,18 @@ def _after_flight_event(p, out, name, t, x, v, s, chatter_speed):
     return "stick", 0
 
 
-def _after_rest(p, out, mode, t, x, t_end):
-    """Integrate a stick or a wall contact to its end; return ``(t, mode, s)``."""
+def _after_rest(p, out, mode, t, x, t_end, rest=_rest):
+    """Integrate a stick or a wall contact to its end by ``rest``; return ``(t, mode, s)``."""
     if mode == "stick":
         if p.F <= p.f:
             return t_end, mode, 0
-        te, nfev = _rest(p, t, x, lambda tt: abs(p.A(tt, x)) - p.f, 1.0, t_end)
+        te, nfev = rest(p, t, x, lambda tt: abs(p.A(tt, x)) - p.f, 1.0, t_end)
         kind = "slip"
     elif mode == "contact_r":
-        te, nfev = _rest(p, t, x, lambda tt: p.A(tt, x) + p.f, -1.0, t_end)
+        te, nfev = rest(p, t, x, lambda tt: p.A(tt, x) + p.f, -1.0, t_end)
         kind = "release"
     else:
-        te, nfev = _rest(p, t, x, lambda tt: p.A(tt, x) - p.f, 1.0, t_end)
+        te, nfev = rest(p, t, x, lambda tt: p.A(tt, x) - p.f, 1.0, t_end)
         kind = "release"
     out.nfev += nfev
     if te >= t_end:
@@ -198,8 +201,8 @@ def _after_rest(p, out, mode, t, x, t_end):
 
 
 def stroboscopic(scene, x0: float, v0: float, periods: int = 1, method: str = "DOP853",
-                 rtol: float = 1e-10, flight=None) -> BaselineRun:
+                 rtol: float = 1e-10, flight=None, rest=None) -> BaselineRun:
     """``Phi^periods(x0, v0)`` by the baseline (one ``run`` to ``periods * T``)."""
     if periods < 1:
         raise ValueError(f"periods must be >= 1, got {periods}")
-    return run(scene, x0, v0, periods * 2 * math.pi / scene.float("omega"), method, rtol, flight=flight)
+    return run(scene, x0, v0, periods * 2 * math.pi / scene.float("omega"), method, rtol, flight=flight, rest=rest)

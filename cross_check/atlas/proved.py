@@ -52,7 +52,7 @@ from fractions import Fraction
 import mpmath
 from flint import arb
 
-from cross_check import cluster
+from cross_check import cluster, outputs
 from cross_check.atlas import claims as C
 from cross_check.atlas import proved_dissip as D
 from cross_check.progress import Progress
@@ -384,7 +384,7 @@ def main(argv=None) -> int:
     group = ap.add_mutually_exclusive_group()
     group.add_argument("--workers", type=int, default=2, help="local worker processes (default 2)")
     group.add_argument("--scheduler", default=None, help="tcp://HOST:PORT of a running dask scheduler")
-    ap.add_argument("--out", default="atlas", help="output directory (default: atlas/)")
+    ap.add_argument("--out", default="atlas", type=outputs.check_folder, help="output directory (default: atlas/)")
     ap.add_argument("--max-leaves", type=int, default=MAX_LEAVES,
                     help=f"sub-boxes one box may use before it is declared unproved (default {MAX_LEAVES})")
     ap.add_argument("--method", choices=METHODS, default=METHOD,

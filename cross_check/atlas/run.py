@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from cross_check import cluster
+from cross_check import cluster, outputs
 from cross_check.atlas import claims as C
 from cross_check.atlas import store
 from cross_check.progress import Progress
@@ -246,7 +246,7 @@ def main(argv=None) -> int:
                         f"of a zarr chunk (default {CHUNK}, fewer on grids smaller than {4 * CHUNK})")
     parser.add_argument("--scheduler", default=None, help="tcp://HOST:PORT of a running dask scheduler")
     parser.add_argument("--workers", type=int, default=2, help="local worker processes (default 2)")
-    parser.add_argument("--out", default="atlas", help="output directory (default: atlas/)")
+    parser.add_argument("--out", default="atlas", type=outputs.check_folder, help="output directory (default: atlas/)")
     args = parser.parse_args(argv)
     log = Progress()
     try:

@@ -166,21 +166,23 @@ def scipy_itineraries(hard_scenes, n_sample, progress) -> list[str]:
 
 
 # --- 5. claims, 6. machine --------------------------------------------------------------
-def claims_section(quick: bool, progress, claims=None) -> list[str]:
+def claims_section(quick: bool, progress, claims=None, first=()) -> list[str]:
     """The claims table, one registered claim at a time (``claims``: id -> object with ``run(quick)``;
-    default the registry ``cross_check.paper.claims.CLAIMS``).  A failing claim is reported in its row."""
+    default the registry ``cross_check.paper.claims.CLAIMS``).  A failing claim is reported in its row.
+    ``first``: ids computed before the others (the table keeps the registry's order)."""
     if claims is None:
         from cross_check.paper.claims import CLAIMS as claims
-    rows = []
-    for cid, c in claims.items():
+    done = {}
+    for cid in sorted(claims, key=lambda c: c not in first):
         t0 = time.perf_counter()
         try:
-            rows.append(c.run(quick))
+            done[cid] = claims[cid].run(quick)
         except Exception as exc:  # noqa: BLE001 -- one claim's failure is reported, not fatal
-            rows.append({"id": cid, "verdict": "FAILED", "statement": f"{type(exc).__name__}: {str(exc)[:200]}",
-                         "corrected": None, "note": ""})
-        rows[-1]["seconds"] = round(time.perf_counter() - t0, 2)
-        progress(f"claim {cid}: {rows[-1]['verdict']}")
+            done[cid] = {"id": cid, "verdict": "FAILED", "statement": f"{type(exc).__name__}: {str(exc)[:200]}",
+                         "corrected": None, "note": ""}
+        done[cid]["seconds"] = round(time.perf_counter() - t0, 2)
+        progress(f"claim {cid}: {done[cid]['verdict']}")
+    rows = [done[cid] for cid in claims]
     keys = ("id", "verdict", "statement", "corrected", "note", "seconds")
 
     def cell(d, k):

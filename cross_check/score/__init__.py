@@ -24,19 +24,27 @@ An adapter is any object with
 Plain floats and numpy arrays only: wrapping an engine takes a few lines (``adapters`` holds
 ``fast``, ``reference``, scipy's ``solve_ivp`` and heyoka.py as examples).  An exception or a
 non-finite result on a start, or no result within the time budget, is a *failure* of that
-start, recorded, not a crash; a result of the wrong type or shape is a bad adapter (``protocol``).
+start, recorded, not a crash (an adapter that timed a start out itself raises
+``protocol.ReportedTimeout``: a failure of kind timeout); a result of the wrong type or shape is a
+bad adapter (``protocol``).  An integrator in another language writes a results file instead
+(``problems``: the problems as CSV/JSON; ``results``: the file read back as one more adapter).
 
-* ``card``     -- ``score(adapter, scenes=..., periods=(1, 10), case_timeout=10)`` -> ``Scorecard``
-  (markdown, JSON), and the CLI ``python -m cross_check score MODULE:NAME [--scenes ...] [--out DIR]
-  [--case-timeout S] [--in-process]``;
+* ``card``     -- ``score(adapter, scenes=..., periods=(1, 10), case_timeout=10, kind_timeouts=2)`` ->
+  ``Scorecard`` (markdown, JSON), and the CLI ``python -m cross_check score MODULE:NAME [--scenes ...]
+  [--out DIR] [--case-timeout S] [--kind-timeouts K] [--in-process]``;
 * ``sheet``    -- the scorecard as data: rows, grades per kind, JSON and markdown;
 * ``golden``   -- the golden cases as plain objects (``GoldenCase``), with their kind, and what
   usually makes an integrator time out on each kind;
 * ``protocol`` -- the protocol checked: ``load_adapter``, ``BadAdapter`` (exit status 2);
 * ``runner``, ``isolate`` -- the time budget: an adapter given by its spec runs in a worker
   process killed when a call runs over (``spawn``), one process per run, restarted only after a
-  timeout; an adapter object runs in process, where the budget is checked after each call;
+  timeout; an adapter object runs in process, where the budget is checked after each call; after
+  the adapter's first timeout, a short budget where no grade rides on it (``runner.Budget``);
+* ``cutoff``   -- fail fast per kind: after K timeouts of a kind in a scene its other starts there
+  are not run (failed, counted apart), with one probe per scene for a kind that keeps failing;
 * ``adapters`` -- the shipped adapters;
+* ``problems``, ``results`` -- the results-file protocol: ``score --export-problems DIR``, ``score
+  --results FILE`` (``ResultsAdapter``), the example integrator in C in ``cross_check/data/examples``;
 * ``plugin``   -- the pytest plugin (entry point ``pytest11``): a ``golden_case`` fixture, one
   test per golden case, each run in a worker process with ``--golden-timeout`` seconds.
 

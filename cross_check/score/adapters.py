@@ -70,17 +70,19 @@ class ReferenceAdapter:
 
 class BaselineAdapter:
     """The careful user's event handling (``agreement.baseline``) around a smooth integrator:
-    solve_ivp's ``method`` at ``rtol``, or another ``flight`` (heyoka's)."""
+    solve_ivp's ``method`` at ``rtol``, or another ``flight`` (heyoka's) and ``rest`` (the
+    league's SUNDIALS peer)."""
 
     effects = frozenset(EFFECTS)
 
-    def __init__(self, name, method="DOP853", rtol=1e-10, flight=None):
-        self.name, self.method, self.rtol, self.flight = name, method, rtol, flight
+    def __init__(self, name, method="DOP853", rtol=1e-10, flight=None, rest=None):
+        self.name, self.method, self.rtol, self.flight, self.rest = name, method, rtol, flight, rest
 
     def _runs(self, params, x, v, periods):
         from cross_check.agreement import baseline      # scipy: imported when used (a worker loading fast starts light)
         sc = scene_of(params)
-        return [baseline.stroboscopic(sc, float(a), float(b), periods, self.method, self.rtol, flight=self.flight)
+        return [baseline.stroboscopic(sc, float(a), float(b), periods, self.method, self.rtol, flight=self.flight,
+                                      rest=self.rest)
                 for a, b in zip(x, v)]
 
     def step(self, params, x, v, periods):

@@ -22,7 +22,11 @@ code path there), its outcome thrown away (``runner``).  An adapter given by its
 ``MODULE:NAME`` spec runs in a worker process that is killed when a call runs over (``runner``,
 ``isolate``); an adapter object runs in process, where the budget is checked after each call.
 A start whose one-period call ran out of time is not tried over ten periods (the same work
-comes first there).
+comes first there).  **Fail fast** (issue 37): after ``kind_timeouts`` timeouts of one kind in a
+scene the kind's other starts there are not run (``cutoff``: failed, counted apart, the time saved
+on the card), and after the adapter's first timeout the starts whose outcome cannot change a grade
+get a short budget (``runner.Budget``): a broken kind costs a few budgets, a correct adapter --
+one that never runs out of time -- is scored exactly as without either.
 """
 from __future__ import annotations
 
@@ -40,17 +44,19 @@ import traceback
 
 import numpy as np
 
-from cross_check import golden, scenefile
+from cross_check import golden, outputs, scenefile
 from cross_check import scenes as scene_table
 from cross_check.agreement import compare
 from cross_check.progress import Progress
 from cross_check.score import adapters, isolate, runner
-from cross_check.score.golden import easiest, golden_scene, scene_cases, timeout_message, warmup_case
+from cross_check.score.cutoff import KIND_TIMEOUTS, NOT_RUN, SCENES_RUNNING, KindCutoff, kind_timeouts_arg
+from cross_check.score.golden import (easiest, golden_scene, scene_cases, ten_period_cases, timeout_message,
+                                      warmup_case)
 from cross_check.score.protocol import BadAdapter, load_adapter
 from cross_check.score.sheet import CaseScore, Scorecard
 
 TEN_DPS = 40          # the reference's digits for the ten-period truth
-TEN_STATES = 2        # sample states per scene scored over ten periods
+TEN = "ten periods"   # the ten-period calls' kind for the budget and the cut-off (never graded)
 CASE_TIMEOUT, FIRST_CALL_TIMEOUT = runner.CASE_TIMEOUT, runner.FIRST_CALL_TIMEOUT
 
 
@@ -67,7 +73,7 @@ def _itinerary(case, got, scene):
 
 
 def _failed(s: CaseScore, out: runner.Outcome, what: str = "") -> CaseScore:
-    s.failure_kind = out.kind
+    s.failure_kind, s.budget = out.kind, out.budget
     if out.kind == "timeout":
         s.failure = timeout_message(s.id, s.kind, out.budget, what + out.failure)
     else:
@@ -76,7 +82,7 @@ def _failed(s: CaseScore, out: runner.Outcome, what: str = "") -> CaseScore:
 
 
 def _case_score(case, out: runner.Outcome) -> CaseScore:
-    s = CaseScore(case.id, case.kind, case.band)
+    s = CaseScore(case.id, case.kind, case.band, budget=out.budget)
     if out.failure is not None:
         return _failed(s, out)
     x, v = (float(a) for a in out.value)
@@ -90,51 +96,63 @@ def _case_score(case, out: runner.Outcome) -> CaseScore:
 
 
 def score_scene(adapter, name: str, periods=(1, 10), *, run=None, budget=None, say=None,
-                golden_dir=None) -> dict:
-    """Every golden case of one scene: ``{"cases": [CaseScore], "seconds_per_period", "ten", "mode"}``.
-    ``run``: a ``runner`` (default: one for ``adapter``, closed after); ``budget``: a
-    ``runner.Budget`` (default: the module's); ``golden_dir``: the golden data (default: shipped)."""
+                golden_dir=None, cut=None) -> dict:
+    """Every golden case of one scene: ``{"cases": [CaseScore], "seconds_per_period", "ten", "mode",
+    "budget"}``.  ``run``: a ``runner`` (default: one for ``adapter``, closed after); ``budget``: a
+    ``runner.Budget`` (default: the module's); ``golden_dir``: the golden data (default: shipped);
+    ``cut``: the run's ``cutoff.KindCutoff`` (default: none, every start runs)."""
     own = run is None
     run = runner.runner(adapter) if own else run
-    budget = budget or runner.Budget(CASE_TIMEOUT, FIRST_CALL_TIMEOUT)
+    budget = budget or runner.Budget(CASE_TIMEOUT, FIRST_CALL_TIMEOUT, ungraded=(TEN,))
     try:
         cases = scene_cases(name, golden_dir)
         sc = golden_scene(name, golden_dir)
         params = dict(cases[0].params)
         X, V = np.array([c.x for c in cases]), np.array([c.v for c in cases])
         names = [f"{c.id} [{c.kind}]" for c in cases]
+        tags = [(c.kind, not c.band) for c in cases]
+        scene_cut = cut.scene(name, tags) if cut is not None else None
         for method in ("step", "events") if run.meta["events"] else ("step",):
             if budget.first_time((method, sc.effects)):
                 w = warmup_case(sc.effects, golden_dir) or cases[easiest(cases)]
                 runner.warm_up(run, method, w.params, w.x, w.v, budget, f"{w.id} [{w.kind}]", say)
-        steps, seconds, mode = runner.run_starts(run, "step", params, X, V, 1, budget, names, say, easiest(cases))
+        steps, seconds, mode = runner.run_starts(run, "step", params, X, V, 1, budget, names, say, easiest(cases),
+                                                 tags=tags, cut=scene_cut)
         out = [_case_score(c, o) for c, o in zip(cases, steps)]
         ok = [i for i, s in enumerate(out) if s.failure is None]
         if run.meta["events"] and ok:
             logs, _, _ = runner.run_starts(run, "events", params, X[ok], V[ok], None, budget,
-                                           [names[i] for i in ok], say, easiest([cases[i] for i in ok]))
+                                           [names[i] for i in ok], say, easiest([cases[i] for i in ok]),
+                                           tags=[tags[i] for i in ok], cut=scene_cut)
             for i, log in zip(ok, logs):
                 if log.failure is None:
                     out[i].missed, out[i].invented = _itinerary(cases[i], log.value, sc)
-                elif log.kind in ("timeout", "crash"):    # an exception there: the itinerary is not scored
+                elif log.kind in ("timeout", "crash", NOT_RUN):    # an exception there: the itinerary is not scored
                     _failed(out[i], log, "events: ")
-        ten = _ten_periods(run, params, sc, cases, out, budget, say) if 10 in periods else []
+        ten = _ten_periods(run, params, sc, cases, out, budget, say, scene_cut) if 10 in periods else []
+        if scene_cut is not None:
+            scene_cut.close()
     finally:
         if own:
             run.close()
-    return {"cases": out, "seconds_per_period": seconds / len(cases), "ten": ten, "mode": mode}
+    shorts = [o.budget for o in steps if o.budget is not None and o.budget < budget.per_start]
+    return {"cases": out, "seconds_per_period": seconds / len(cases), "ten": ten, "mode": mode,
+            "budget": {"cap": budget.per_start, "short": min(shorts) if shorts else None}}
 
 
-def _ten_periods(run, params, sc, cases, scores, budget, say):
+def _ten_periods(run, params, sc, cases, scores, budget, say, cut=None):
     """Digits after ten periods against the reference at ``TEN_DPS`` on sample states outside the
-    band (``None``: failed, or not tried because its first period ran out of time)."""
-    picked = [i for i, c in enumerate(cases) if c.name.startswith("sample") and not c.band][:TEN_STATES]
-    tried = [i for i in picked if scores[i].failure_kind not in ("timeout", "crash")]
+    band (``None``: failed, or not tried because its first period ran out of time or was not run).
+    For the budget and the cut-off the ten-period calls are one kind of their own, ``TEN``: never
+    graded (``runner.Budget``'s ``ungraded``: the short budget once the adapter has timed out)."""
+    picked = ten_period_cases(cases)
+    tried = [i for i in picked if scores[i].failure_kind not in ("timeout", "crash", NOT_RUN)]
     got = {}
     if tried:
         outs, _, _ = runner.run_starts(run, "step", params, np.array([cases[i].x for i in tried]),
                                        np.array([cases[i].v for i in tried]), 10, budget,
-                                       [f"{cases[i].id} [{cases[i].kind}] x10" for i in tried], say)
+                                       [f"{cases[i].id} [{cases[i].kind}] x10" for i in tried], say,
+                                       tags=[(TEN, True)] * len(tried), cut=cut)
         got = {i: o.value for i, o in zip(tried, outs) if o.failure is None}
     out = []
     for i in picked:
@@ -155,7 +173,8 @@ def _check_effects(meta, who):
 
 def score(adapter, *, scenes=None, periods=(1, 10), progress=None, case_timeout: float = CASE_TIMEOUT,
           first_call_timeout: float = FIRST_CALL_TIMEOUT, in_process: bool | None = None,
-          checkpoint=None, golden_dir=None) -> Scorecard:
+          checkpoint=None, golden_dir=None, kind_timeouts: int = KIND_TIMEOUTS,
+          budget_multiple: float = runner.BUDGET_MULTIPLE, budget_floor: float = runner.BUDGET_FLOOR) -> Scorecard:
     """Score ``adapter`` (an object, or a ``MODULE:NAME`` spec; protocol: ``cross_check.score``) on
     ``scenes`` (default: every scene with golden data in ``golden_dir``, by default the shipped
     data); ``periods`` ``(1,)`` or ``(1, 10)``.
@@ -164,7 +183,11 @@ def score(adapter, *, scenes=None, periods=(1, 10), progress=None, case_timeout:
     after each call); ``in_process`` overrides (``False`` with an object: it must pickle).
     ``progress(message)`` gets a line per scene and per slow start; ``checkpoint(card)`` gets the
     card before the first scene and after each one (``complete`` false until the end).  A
-    protocol violation is a ``BadAdapter`` (a ``TypeError``), bad arguments a ``ValueError``."""
+    protocol violation is a ``BadAdapter`` (a ``TypeError``), bad arguments a ``ValueError``.
+
+    ``kind_timeouts``: the per-kind cut-off K (``cutoff``; 0: every start runs);
+    ``budget_multiple``, ``budget_floor``: the short budget (``runner.Budget``; multiple 0: every
+    start has ``case_timeout``)."""
     if not set(periods) <= {1, 10} or 1 not in periods:
         raise ValueError(f"periods must be (1,) or (1, 10), got {periods!r}")
     have = golden.names_in(golden_dir)
@@ -173,14 +196,16 @@ def score(adapter, *, scenes=None, periods=(1, 10), progress=None, case_timeout:
     if unknown:
         raise ValueError(f"unknown scene(s) {unknown}: no golden data for them in {golden.files(golden_dir)}; "
                          f"it has: {', '.join(have)}")
-    budget = runner.Budget(case_timeout, first_call_timeout)
+    budget = runner.Budget(case_timeout, first_call_timeout, multiple=budget_multiple, floor=budget_floor,
+                           ungraded=(TEN,))
+    cut = KindCutoff(kind_timeouts)
     say = progress or (lambda m: None)
     run = runner.runner(adapter, in_process, setup_budget=max(budget.first, isolate.SETUP_BUDGET))
     try:
         meta = run.meta
         _check_effects(meta, run.who)
         card = Scorecard(meta["name"], [], {}, {}, meta["events"], planned=names, complete=False,
-                         budget={"case_timeout": budget.per_start, "first_call_timeout": budget.first,
+                         budget={**budget.describe(), "kind_timeouts": kind_timeouts,
                                  "isolated": run.isolated, "isolation": run.note, "restarts": 0})
         if checkpoint:
             checkpoint(card)
@@ -191,13 +216,15 @@ def score(adapter, *, scenes=None, periods=(1, 10), progress=None, case_timeout:
                 continue
             t0 = time.perf_counter()
             say(f"score {meta['name']}: {name} ...")
-            res = score_scene(None, name, periods, run=run, budget=budget, say=say, golden_dir=golden_dir)
+            res = score_scene(None, name, periods, run=run, budget=budget, say=say, golden_dir=golden_dir, cut=cut)
             card.cases += res["cases"]
-            card.scenes[name] = {k: res[k] for k in ("seconds_per_period", "ten", "mode")}
-            card.budget["restarts"] = run.restarts
+            card.scenes[name] = {k: res[k] for k in ("seconds_per_period", "ten", "mode", "budget")}
+            card.budget.update(budget.describe(), restarts=run.restarts)
             failed = [c for c in res["cases"] if c.failure]
-            say(f"score {meta['name']}: {name}: {len(res['cases'])} starts, {len(failed)} failed "
-                f"({sum(c.failure_kind == 'timeout' for c in failed)} timeouts), {time.perf_counter() - t0:.1f} s")
+            skipped = sum(c.failure_kind == NOT_RUN for c in failed)
+            say(f"score {meta['name']}: {name}: {len(res['cases'])} starts, {len(failed) - skipped} failed "
+                f"({sum(c.failure_kind == 'timeout' for c in failed)} timeouts)"
+                + (f", {skipped} not run (kind cut off)" if skipped else "") + f", {time.perf_counter() - t0:.1f} s")
             if checkpoint:
                 checkpoint(card)
         card.complete = True
@@ -243,7 +270,14 @@ def build_parser() -> argparse.ArgumentParser:
                     "scorecard.md and scorecard.json after every scene (marked incomplete until the last).  "
                     "Exit status: 0 every kind passes, 1 a kind is flagged, 2 bad arguments or a bad adapter, "
                     "130/143 interrupted by SIGINT/SIGTERM (the scorecard so far is kept).")
-    parser.add_argument("adapter", help="MODULE:NAME of an adapter, or fast | reference | scipy | heyoka")
+    parser.add_argument("adapter", nargs="?", help="MODULE:NAME of an adapter, or fast | reference | scipy | heyoka "
+                        "(or, instead, --results FILE or --export-problems DIR)")
+    parser.add_argument("--export-problems", metavar="DIR", default=None, type=outputs.check_folder,
+                        help="write the selected problems for an integrator in any language (DIR/problems.csv, "
+                             "problems.json, FORMAT.md) and exit")
+    parser.add_argument("--results", metavar="FILE", default=None,
+                        help="grade a results file (results.csv or results.json, FORMAT.md) written for the "
+                             "problems of the same selection flags, as an adapter")
     parser.add_argument("--scenes", nargs="+", metavar="NAME", choices=list(scene_table.SCENES),
                         help="only these built-in scenes (default: all with golden data)")
     parser.add_argument("--golden-dir", metavar="DIR", default=None,
@@ -251,7 +285,7 @@ def build_parser() -> argparse.ArgumentParser:
     scenefile.add_arguments(parser, "score on")
     parser.add_argument("--periods", nargs="+", type=int, default=[1, 10], choices=[1, 10],
                         help="horizons: 1, or 1 10 (default)")
-    parser.add_argument("--out", default="scorecard", help="output directory (default: scorecard/)")
+    parser.add_argument("--out", default="scorecard", type=outputs.check_folder, help="output directory (default: scorecard/)")
     parser.add_argument("--case-timeout", type=runner.positive_seconds, default=CASE_TIMEOUT, metavar="SECONDS",
                         help=f"budget of each call on a start (default {CASE_TIMEOUT:g}); a start over it is a "
                              "failure of kind timeout and the run goes on")
@@ -259,6 +293,17 @@ def build_parser() -> argparse.ArgumentParser:
                         metavar="SECONDS", help="budget of the warm-up call of step and of events on each set of "
                         "effects, on a start that neither sticks nor chatters, where a JIT may compile "
                         f"(default {FIRST_CALL_TIMEOUT:g})")
+    parser.add_argument("--kind-timeouts", type=kind_timeouts_arg, default=KIND_TIMEOUTS, metavar="K",
+                        help=f"per-kind cut-off: after K timeouts of one kind in a scene its other starts there are "
+                             f"not run (failed, 'not run', counted apart); a kind cut in {SCENES_RUNNING} scenes "
+                             f"running gets one probe start per later scene (default {KIND_TIMEOUTS}; 0: every start "
+                             "runs)")
+    parser.add_argument("--budget-multiple", type=float, default=runner.BUDGET_MULTIPLE, metavar="M",
+                        help="after the adapter's first timeout, starts whose outcome cannot change a grade (band, "
+                             "kinds already failed, ten periods) get min(cap, max(floor, M x the median start)) "
+                             f"(default {runner.BUDGET_MULTIPLE:g}; 0: every start has the cap)")
+    parser.add_argument("--budget-floor", type=runner.positive_seconds, default=runner.BUDGET_FLOOR, metavar="SECONDS",
+                        help=f"the floor of that short budget (default {runner.BUDGET_FLOOR:g})")
     parser.add_argument("--in-process", action="store_true",
                         help="call the adapter in this process, not in a worker process (for adapters that "
                              "cannot be loaded there); the budget is then checked after each call, so a "
@@ -276,9 +321,24 @@ def _write(card: Scorecard, out: pathlib.Path):
         os.replace(tmp, out / name)
 
 
+def _source(args, names):
+    """What ``main`` scores: the adapter spec, or a results file read as an adapter (``results``),
+    with the keywords that go with it; ``ValueError`` for a bad combination or a malformed file."""
+    given = [a for a in (args.adapter, args.results, args.export_problems) if a is not None]
+    if len(given) != 1:
+        raise ValueError("give exactly one of ADAPTER, --results FILE, --export-problems DIR")
+    if args.results is None:
+        return args.adapter, {}
+    from cross_check.score import problems, results
+    rows = problems.problems(names or None, tuple(args.periods), args.golden_dir)
+    # every row of the file is graded: nothing to save by cutting kinds, no time to budget
+    return results.ResultsAdapter(args.results, rows), {"in_process": True, "kind_timeouts": 0, "budget_multiple": 0}
+
+
 def main(argv=None) -> int:
-    """``python -m cross_check score ADAPTER [--scenes ...] [--scenes-file FILE] [--scene "..."]
-    [--golden-dir DIR] [--periods 1 [10]] [--out DIR] [--case-timeout S] [--first-call-timeout S] [--in-process] [--debug]``."""
+    """``python -m cross_check score ADAPTER|--results FILE|--export-problems DIR [--scenes ...]
+    [--scenes-file FILE] [--scene "..."] [--golden-dir DIR] [--periods 1 [10]] [--out DIR]
+    [--case-timeout S] [--first-call-timeout S] [--kind-timeouts K] [--in-process] [--debug]``."""
     args = build_parser().parse_args(argv)
     out, last = pathlib.Path(args.out), []
     say = Progress()
@@ -296,11 +356,19 @@ def main(argv=None) -> int:
 
     try:
         names = (args.scenes or []) + scenefile.from_args(args)
+        adapter, keywords = _source(args, names)
+        if args.export_problems is not None:
+            from cross_check.score import problems
+            for path in problems.export(args.export_problems, names or None, tuple(args.periods), args.golden_dir):
+                print(path)
+            return 0
+        settings = {"in_process": args.in_process or None, "kind_timeouts": args.kind_timeouts,
+                    "budget_multiple": args.budget_multiple, **keywords}
         with _stop_on_signals():
-            card = score(args.adapter, scenes=names or None, periods=tuple(args.periods), progress=say,
-                         golden_dir=args.golden_dir,
-                         case_timeout=args.case_timeout, first_call_timeout=args.first_call_timeout,
-                         in_process=args.in_process or None, checkpoint=checkpoint)
+            card = score(adapter, scenes=names or None, periods=tuple(args.periods), progress=say,
+                         golden_dir=args.golden_dir, case_timeout=args.case_timeout,
+                         first_call_timeout=args.first_call_timeout, checkpoint=checkpoint,
+                         budget_floor=args.budget_floor, **settings)
     except (KeyboardInterrupt, Stopped) as exc:
         name = getattr(exc, "signame", "SIGINT")
         return stop(f"interrupted by {name}", 128 + signal.Signals[name].value)

@@ -25,9 +25,15 @@ a timeout there (``golden.timeout_message``).  The session goes on in a fresh pr
 replaying the last test that passed (its outcome thrown away).  The first time a test function
 meets a set of effects, it is first run on a case with those effects that neither sticks nor
 chatters (its outcome thrown away, within ``runner.FIRST_CALL_TIMEOUT``): a JIT compiling there
-does not eat a case's budget.  Output printed by the test comes
-back with its result.  In the worker, bare ``assert`` statements are not rewritten by pytest
-(their message is Python's); ``assert_close`` says everything itself.
+does not eat a case's budget.  Output printed by the test comes back with its result.  In the
+worker, bare ``assert`` statements are not rewritten by pytest (their message is Python's);
+``assert_close`` says everything itself.
+
+**Fail fast per kind** (``score.cutoff``): after ``--golden-kind-timeouts`` K (default 2; 0: off)
+timeouts of one test on one kind of case in a scene, its other cases of that kind there fail at
+once with the reason ``not run: kind KIND timed out K times in this scene`` (a failure, never a
+silent skip); a kind cut in 3 scenes running gets one probe case per later scene.  A failing kind
+ends in a few budgets.
 
 Run here instead, with the budget checked after the test returns (a test that never returns
 hangs the session): ``--golden-in-process``, and tests the worker cannot take -- a fixture that
@@ -50,7 +56,7 @@ import traceback
 
 import pytest
 
-from cross_check.score import isolate, runner
+from cross_check.score import cutoff, isolate, runner
 
 _STATE = pytest.StashKey()
 _RUN = "cross_check.score.plugin:worker_run"
@@ -97,6 +103,11 @@ def pytest_addoption(parser):
     group.addoption("--golden-timeout", type=runner.positive_seconds, default=runner.CASE_TIMEOUT,
                     metavar="SECONDS", help=f"golden_case: seconds per test (default {runner.CASE_TIMEOUT:g}), "
                     "enforced by running it in a worker process that is killed when it runs over")
+    group.addoption("--golden-kind-timeouts", type=cutoff.kind_timeouts_arg, default=cutoff.KIND_TIMEOUTS,
+                    metavar="K", help="golden_case: after K timeouts of one test on one kind of case in a scene, its "
+                    "other cases of that kind there fail at once with 'not run: ...'; a kind cut in "
+                    f"{cutoff.SCENES_RUNNING} scenes running gets one probe case per later scene (default "
+                    f"{cutoff.KIND_TIMEOUTS}; 0: every case runs)")
     group.addoption("--golden-in-process", action="store_true",
                     help="golden_case: run the tests in this process; the budget is then checked after each "
                          "test returns, so a test that never returns hangs the session")
@@ -120,10 +131,22 @@ def pytest_generate_tests(metafunc):
 class _Session:
     """The session's worker and what it has been given."""
 
-    def __init__(self, budget: float, golden_dir=None):
+    def __init__(self, budget: float, golden_dir=None, kind_timeouts: int = cutoff.KIND_TIMEOUTS):
         self.budget, self.worker, self.golden_dir = budget, isolate.Worker(), golden_dir
         self.imported, self.here = set(), {}      # module paths in the worker; paths run here -> why
         self.warmed = set()                       # (module path, test[, effects]) seen
+        self.kind_timeouts = kind_timeouts
+        self.cutoffs: dict = {}                   # (module path, test) -> [KindCutoff, scene, SceneCut]
+
+    def scene_cut(self, test, scene: str) -> cutoff.SceneCut:
+        """The per-kind cut-off of ``test`` (module path, name) in ``scene``; a test's first case of a
+        new scene closes its last scene (the cases come scene by scene: ``pytest_generate_tests``)."""
+        entry = self.cutoffs.setdefault(test, [cutoff.KindCutoff(self.kind_timeouts), None, None])
+        if entry[1] != scene:
+            if entry[2] is not None:
+                entry[2].close()
+            entry[1], entry[2] = scene, entry[0].scene(scene)
+        return entry[2]
 
     def first(self, key) -> bool:
         """Whether ``key`` (module path, test[, effects]) comes for the first time (and note it)."""
@@ -176,12 +199,17 @@ def pytest_pyfunc_call(pyfuncitem):
         return None
     config = pyfuncitem.config
     if _STATE not in config.stash:
-        config.stash[_STATE] = _Session(config.getoption("golden_timeout"), config.getoption("golden_dir"))
+        config.stash[_STATE] = _Session(config.getoption("golden_timeout"), config.getoption("golden_dir"),
+                                        config.getoption("golden_kind_timeouts"))
     state = config.stash[_STATE]
-    job, why = (None, "--golden-in-process") if config.getoption("golden_in_process") else _job(pyfuncitem)
-    if job is not None and job[0] not in state.here and _in_worker(state, job, case):
-        return True
     test = (pyfuncitem.module.__file__, pyfuncitem.originalname)
+    cut = state.scene_cut(test, case.scene)
+    reason = cut.reason(case.kind, not case.band)
+    if reason is not None:           # the per-kind cut-off: a failure, not a silent skip
+        pytest.fail(f"{case.id} [{case.kind}]: {reason}", pytrace=False)
+    job, why = (None, "--golden-in-process") if config.getoption("golden_in_process") else _job(pyfuncitem)
+    if job is not None and job[0] not in state.here and _in_worker(state, job, case, cut):
+        return True
     budget = max(state.budget, runner.FIRST_CALL_TIMEOUT) if state.first((*test, case.effects)) else state.budget
     why = state.here.get(job[0], why) if job is not None else why
     if why != "--golden-in-process" and state.first(test):        # once per test function
@@ -192,6 +220,7 @@ def pytest_pyfunc_call(pyfuncitem):
     t0 = time.perf_counter()
     pyfuncitem.obj(**{a: pyfuncitem.funcargs[a] for a in pyfuncitem._fixtureinfo.argnames})
     took = time.perf_counter() - t0
+    cut.record(case.kind, not case.band, took > budget)
     if took > budget:
         pytest.fail(_timeout(case, budget, f"it took {took:.3g} s; in process the budget is checked after the "
                                            "test"), pytrace=False)
@@ -223,9 +252,10 @@ def _warm_up(state, job, case):
         pass
 
 
-def _in_worker(state, job, case) -> bool:
-    """Run ``job`` in the session's worker and turn its outcome into this test's; ``False`` if its
-    module does not import there (the test then runs here)."""
+def _in_worker(state, job, case, cut) -> bool:
+    """Run ``job`` in the session's worker and turn its outcome into this test's (noted by the
+    scene's cut-off ``cut``); ``False`` if its module does not import there (the test then runs
+    here)."""
     path, name = job[0], job[1]
     worker, budget = state.worker, state.budget
     if path not in state.imported:
@@ -238,15 +268,16 @@ def _in_worker(state, job, case) -> bool:
             state.here[path] = f"its module does not import in a worker process: {exc}"
             return False
     _warm_up(state, job, case)
-    failed = None
+    failed, timed_out = None, False
     try:
         (status, text, out, err), _ = worker.call(_RUN, *job, budget=budget)
     except isolate.CallTimeout:
-        failed = _timeout(case, budget, "the worker process was stopped")
+        failed, timed_out = _timeout(case, budget, "the worker process was stopped"), True
     except isolate.WorkerDied as exc:
         failed = f"{case.id} [{case.kind}]: the worker process died during the test ({exc})"
     except isolate.RemoteError as exc:
         failed = f"{case.id} [{case.kind}]: the worker could not run the test: {exc}\n{exc.traceback}"
+    cut.record(case.kind, not case.band, timed_out)
     if failed is not None:                 # raised here, not in the handler: no chained traceback
         pytest.fail(failed, pytrace=False)
     sys.stdout.write(out)

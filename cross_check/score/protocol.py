@@ -27,6 +27,11 @@ PROTOCOL = ("an adapter needs name (str), effects (set of str) and step(params, 
             "protocol: cross_check.score")
 
 
+class ReportedTimeout(Exception):
+    """Raised by an adapter to report that a start ran out of time where it was computed (a results
+    file's status ``timeout``): the start fails with kind ``timeout``, as if the budget had run out."""
+
+
 class BadAdapter(TypeError):
     """The adapter breaks the protocol; ``detail`` is the traceback behind it, if any (shown
     with ``--debug``)."""
@@ -191,5 +196,5 @@ def worker_call(source, method: str, params: dict, x, v, periods=None):
     return call(adapter, label(source if isinstance(source, str) else adapter), method, params, x, v, periods)
 
 
-__all__ = ["BadAdapter", "REQUIRED", "call", "describe", "events_result", "label", "load_adapter",
+__all__ = ["BadAdapter", "REQUIRED", "ReportedTimeout", "call", "describe", "events_result", "label", "load_adapter",
            "step_result", "worker_call", "worker_load"]

@@ -9,7 +9,10 @@ failure (*flagged*).  Band cases are listed apart, never graded.
 
 A failure has a kind: ``exception``, ``non-finite``, ``timeout`` (no result within the budget;
 the card says what usually causes it for the case's kind, ``golden.CAUSES``) or ``crash`` (the
-worker process died).  A card written while the run goes on is marked incomplete (``complete``
+worker process died).  A start the per-kind cut-off did not run (``cutoff``: its kind timed out K
+times in the scene) has the failure kind ``not run``: it counts as failed in its kind's grade but
+is counted apart (``not_run``), listed apart, and the card adds up the time it saved (those
+starts times the budget each would have had).  A card written while the run goes on is marked incomplete (``complete``
 false in the JSON, a line at the top of the markdown) until the last scene is scored.
 """
 from __future__ import annotations
@@ -21,6 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from cross_check.agreement import compare
+from cross_check.score.cutoff import NOT_RUN
 from cross_check.score.golden import CAUSES, KINDS
 from cross_check.tolerances import tol
 
@@ -39,7 +43,8 @@ class CaseScore:
     missed: dict = field(default_factory=dict)
     invented: dict = field(default_factory=dict)
     failure: str | None = None
-    failure_kind: str | None = None      # exception | non-finite | timeout | crash
+    failure_kind: str | None = None      # exception | non-finite | timeout | crash | not run
+    budget: float | None = None          # seconds the call on it had (or would have had: not run)
 
     @property
     def graded(self) -> float | None:
@@ -64,16 +69,17 @@ def _kind_line(rows) -> dict:
     credited = [c.graded for c in graded if c.digits is not None]
     missed = sum(sum(c.missed.values()) for c in graded)
     invented = sum(sum(c.invented.values()) for c in graded)
-    failures = sum(1 for c in graded if c.failure is not None)
+    not_run = sum(1 for c in graded if c.failure_kind == NOT_RUN)
+    failures = sum(1 for c in graded if c.failure is not None) - not_run
     worst = min(credited) if credited else None
-    grade = _grade(worst, missed, invented, failures) if graded else "-"
+    grade = _grade(worst, missed, invented, failures + not_run) if graded else "-"
     floor_lost = [c.floor_digits - c.digits for c in graded if c.digits is not None and c.floor_digits is not None]
     return {"cases": len(rows), "band": len(rows) - len(graded), "worst_graded_digits": worst,
             "worst_digits": min(digits) if digits else None,
             "median_digits": float(np.median(digits)) if digits else None,
             "worst_digits_lost_to_floor": max(floor_lost) if floor_lost else None,
             "missed": missed, "invented": invented, "failures": failures,
-            "timeouts": sum(1 for c in graded if c.failure_kind == "timeout"),
+            "timeouts": sum(1 for c in graded if c.failure_kind == "timeout"), "not_run": not_run,
             "grade": grade, "flagged": grade == "F"}
 
 
@@ -94,8 +100,8 @@ class Scorecard:
 
     def kinds(self) -> dict:
         """Per kind (in ``KINDS`` order, kinds with cases only): counts, worst digits outside the
-        band, missed/invented events, failures and timeouts (outside the band), the grade and
-        whether it is flagged."""
+        band, missed/invented events, failures and timeouts and starts not run (outside the band;
+        ``failures`` does not count those not run), the grade and whether it is flagged."""
         return {kind: _kind_line(rows) for kind in KINDS
                 if (rows := [c for c in self.cases if c.kind == kind])}
 
@@ -108,9 +114,18 @@ class Scorecard:
     def timeouts(self) -> list:
         return [c for c in self.cases if c.failure_kind == "timeout"]
 
+    def not_run(self) -> list:
+        """The starts the per-kind cut-off did not run (band starts included)."""
+        return [c for c in self.cases if c.failure_kind == NOT_RUN]
+
+    def seconds_saved(self) -> float:
+        """The time the cut-off saved: the starts not run times the budget each would have had."""
+        return float(sum(c.budget or 0.0 for c in self.not_run()))
+
     def to_dict(self) -> dict:
         return {"adapter": self.adapter, "complete": self.complete, "stopped": self.stopped,
                 "scenes_not_scored": self.not_done(), "budget": self.budget,
+                "not_run": len(self.not_run()), "seconds_saved": self.seconds_saved(),
                 "events_scored": self.events_scored, "kinds": self.kinds(),
                 "skipped_scenes": {k: sorted(v) for k, v in self.skipped.items()},
                 "scenes": self.scenes,
@@ -128,11 +143,26 @@ class Scorecard:
                       f"{len(self.scenes)} of {len(self.planned) - len(self.skipped)} scene(s) scored; not scored: "
                       f"{', '.join(f'`{n}`' for n in self.not_done()) or '-'}.", ""]
         if self.budget:
-            b = self.budget
-            lines += [f"Time budget: {b['case_timeout']:g} s per call on a start ({b['first_call_timeout']:g} s for "
-                      f"the warm-up call of step and of events on each set of effects); {b['isolation']}"
-                      + (f"; {b['restarts']} worker restart(s)" if b.get("restarts") else "") + ".", ""]
+            lines += [self._budget_line(), ""]
+        if self.not_run():
+            lines += [f"Per-kind cut-off: {len(self.not_run())} start(s) not run (their kind timed out "
+                      f"{self.budget.get('kind_timeouts', '?')} times in the scene, or its probe did): "
+                      f"{self.seconds_saved():.0f} s saved (starts not run x their budget).", ""]
         return lines
+
+    def _budget_line(self) -> str:
+        b = self.budget
+        line = (f"Time budget: {b['case_timeout']:g} s per call on a start ({b['first_call_timeout']:g} s for the "
+                f"warm-up call of step and of events on each set of effects); {b['isolation']}"
+                + (f"; {b['restarts']} worker restart(s)" if b.get("restarts") else ""))
+        if b.get("short_budget") is not None:
+            line += (f".  After the first timeout: {b['short_budget']:.3g} s per call (max(floor "
+                     f"{b['budget_floor']:g} s, {b['budget_multiple']:g} x the median start "
+                     + (f"{b['median_seconds']:.2g} s" if b.get("median_seconds") is not None else "(too few yet)")
+                     + ")) for starts in the band, of kinds already failed, and over ten periods; the cap for the rest")
+        if b.get("kind_timeouts") == 0:
+            line += ".  Per-kind cut-off: off (every start runs)"
+        return line + "."
 
     def to_markdown(self) -> str:
         lines = self._head() + [
@@ -140,23 +170,26 @@ class Scorecard:
             "apart, not graded).  Digits: significant correct digits of Phi after one period against the 40-digit "
             "golden data; lost: digits below the one-ulp floor of the exact map.", "",
             "| kind | grade | cases (band) | worst graded digits | worst digits | median | worst lost to floor | "
-            "missed | invented | failures (timeouts) |", "|---|---|---|---|---|---|---|---|---|---|"]
+            "missed | invented | failures (timeouts) | not run |", "|---|---|---|---|---|---|---|---|---|---|---|"]
         fmt = lambda a: "-" if a is None else f"{a:.1f}"     # noqa: E731
         na = lambda n: n if self.events_scored else "n/a"    # noqa: E731
         for kind, s in self.kinds().items():
             lines.append(f"| {kind} | **{s['grade']}** | {s['cases']} ({s['band']}) | {fmt(s['worst_graded_digits'])} | "
                          f"{fmt(s['worst_digits'])} | {fmt(s['median_digits'])} | "
                          f"{fmt(s['worst_digits_lost_to_floor'])} | {na(s['missed'])} | {na(s['invented'])} | "
-                         f"{s['failures']} ({s['timeouts']}) |")
-        lines += ["", "| scene | s per trajectory-period | digits after 10 periods |", "|---|---|---|"]
+                         f"{s['failures']} ({s['timeouts']}) | {s['not_run']} |")
+        lines += ["", "| scene | s per trajectory-period | digits after 10 periods | budget s (short) |",
+                  "|---|---|---|---|"]
         lines += [f"| `{k}` | {v['seconds_per_period']:.2e}{' (start by start)' if v.get('mode') == 'start by start' else ''} | "
-                  f"{', '.join(fmt(d) if d is not None else 'failed' for d in v['ten']) or '-'} |"
+                  f"{', '.join(fmt(d) if d is not None else 'failed' for d in v['ten']) or '-'} | {_budgets(v)} |"
                   for k, v in self.scenes.items()]
         if self.skipped:
             lines += ["", "Skipped (effects the adapter does not declare): "
                       + "; ".join(f"`{k}` ({', '.join(sorted(v))})" for k, v in self.skipped.items())]
         lines += self._timeout_lines()
-        bad = [c for c in self.cases if (c.failure and c.failure_kind != "timeout") or c.missed or c.invented]
+        lines += self._not_run_lines()
+        bad = [c for c in self.cases if (c.failure and c.failure_kind not in ("timeout", NOT_RUN)) or c.missed
+               or c.invented]
         if bad:
             lines += ["", "Cases with failures or a different itinerary (b: in the band):", ""]
             lines += [f"- {c.id} [{c.kind}]{' (b)' if c.band else ''}: "
@@ -174,6 +207,27 @@ class Scorecard:
                 lines.append(f"- **{kind}** ({len(rows)}): " + ", ".join(f"{c.id}{' (b)' if c.band else ''}" for c in rows)
                              + f" -- usually {CAUSES[kind]}")
         return lines
+
+    def _not_run_lines(self) -> list[str]:
+        out = self.not_run()
+        if not out:
+            return []
+        lines = ["", "Not run (the per-kind cut-off; counted as failed, apart from the failures above), by scene "
+                 "and kind:", ""]
+        groups: dict = {}
+        for c in out:
+            groups.setdefault((c.id.rsplit("/", 1)[0], c.kind, c.failure), []).append(c)
+        for (scene, kind, why), rows in groups.items():
+            lines.append(f"- `{scene}` **{kind}** ({len(rows)}): " + ", ".join(
+                c.id.rsplit("/", 1)[1] + (" (b)" if c.band else "") for c in rows) + f" -- {why}")
+        return lines
+
+
+def _budgets(scene: dict) -> str:
+    b = scene.get("budget") or {}
+    if "cap" not in b:
+        return "-"
+    return f"{b['cap']:g}" + (f" ({b['short']:.3g})" if b.get("short") is not None else "")
 
 
 __all__ = ["CaseScore", "FULL_DIGITS", "Scorecard"]

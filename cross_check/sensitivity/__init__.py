@@ -18,6 +18,7 @@ import argparse
 import json
 import pathlib
 
+from cross_check import outputs
 from cross_check.progress import Progress
 from cross_check.sensitivity import checks, faults
 from cross_check.score.adapters import FAST
@@ -75,7 +76,7 @@ def main(argv=None) -> int:
         prog="python -m cross_check sensitivity",
         description="Run the suite's checks on a catalogue of faulty integrators (fast with one physics "
                     "fault each) and on the control; write which check caught each fault and how fast.")
-    parser.add_argument("--out", default="sensitivity", help="output directory (default: sensitivity/)")
+    parser.add_argument("--out", default="sensitivity", type=outputs.check_folder, help="output directory (default: sensitivity/)")
     args = parser.parse_args(argv)
     tab = table(Progress())
     out = pathlib.Path(args.out)

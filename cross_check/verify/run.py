@@ -28,7 +28,7 @@ import sys
 import time
 import uuid
 
-from cross_check import cluster, scenefile, scenes
+from cross_check import cluster, outputs, scenefile, scenes
 from cross_check.progress import Progress
 
 # ``golden``, ``verify.tasks`` and ``verify.document`` (mpmath, flint, scipy, matplotlib: about a
@@ -172,7 +172,7 @@ def main(argv=None) -> int:
     parser.add_argument("files", nargs="*", metavar="SCENES.toml", help="scene files (cross_check.scenefile)")
     parser.add_argument("--scene", action="append", default=[], dest="inline_scene",
                         metavar='"F=1 f=0.3 omega=1 l=0 r=3"', help="one scene inline (optional name=...); repeatable")
-    parser.add_argument("--out", default="verify", help="output directory (default: verify/)")
+    parser.add_argument("--out", default="verify", type=outputs.check_folder, help="output directory (default: verify/)")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, default=2, help="local worker processes (default 2)")
     where.add_argument("--scheduler", default=None, help="tcp://HOST:PORT of a running dask scheduler")

@@ -300,14 +300,17 @@ def _trace_duals(u, p, m):
 
 def prove_two_impacts(box, guess, *, periods=1, ticks=Fraction(0), prec=BOX_PREC,
                       unique=True) -> ImpactOrbitProof:
-    """Prove, for every parameter of ``box`` (a ``ParamBox`` without damping, or a scene), the
-    orbit of ``Phi^periods`` with one impact on each wall near ``guess = (a, A, b, B)``
-    (module docstring); ``point`` holds its state at ``t = ticks T``.  ``unique``: also try
+    """Prove, for every parameter of ``box`` (a ``ParamBox`` without damping, or a scene without
+    damping or position forcing), the orbit of ``Phi^periods`` with one impact on each wall near
+    ``guess = (a, A, b, B)`` (module docstring); ``point`` holds its state at ``t = ticks T``.  ``unique``: also try
     uniqueness in the state ball (``unique_in_point``; it holds on small boxes: the ball of a
     wide one spans the orbit's motion over the box, and every orbit from it cannot enter one
     impact box; ~1 ms a try)."""
     if box.has("damping"):
         raise ValueError("prove_two_impacts: the closed-form flights need damping = 0 on the box")
+    if box.has("position_forcing"):
+        raise ValueError("prove_two_impacts: the closed-form flights need wavenumber = None (no "
+                         "position forcing F cos(k x) cos(w t))")
     if isinstance(guess, str) or len(guess) != 4:
         raise TypeError(f"prove_two_impacts: guess must be four numbers (a, A, b, B), got {guess!r}")
     start = time.perf_counter()

@@ -11,8 +11,6 @@ and its worker (user + system), which other load does not inflate.  Each run che
 no kind flagged, complete, no timeout, the same digits both ways.
 """
 import json
-import resource
-import subprocess
 import sys
 
 import pytest
@@ -20,24 +18,13 @@ import pytest
 DIGITS = {}
 
 
-def _cpu() -> float:
-    use = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return use.ru_utime + use.ru_stime
-
-
 @pytest.mark.benchmark(group="score-isolation")
 @pytest.mark.parametrize("flags", [[], ["--in-process"]], ids=["worker process", "in process"])
-def test_bench_score_fast_command(benchmark, flags, tmp_path):
+def test_bench_score_fast_command(benchmark, flags, tmp_path, timed_command):
     argv = [sys.executable, "-m", "cross_check", "score", "fast", "--out", str(tmp_path), *flags]
     cpu = []
 
-    def run():
-        before = _cpu()
-        status = subprocess.run(argv, capture_output=True).returncode
-        cpu.append(_cpu() - before)
-        return status
-
-    status = benchmark.pedantic(run, rounds=3, iterations=1)
+    status = benchmark.pedantic(timed_command, args=(argv, cpu), rounds=3, iterations=1)
     benchmark.extra_info["cpu_s"] = min(cpu)
     card = json.loads((tmp_path / "scorecard.json").read_text())
     assert status == 0 and card["complete"] and not any(c["failure"] for c in card["cases"])

@@ -22,6 +22,7 @@ from __future__ import annotations
 import json
 import time
 
+from cross_check import outputs
 from cross_check.paper.claims import bifurcations, closed_forms, islands, regions  # noqa: F401 (registration)
 from cross_check.paper.claims.base import REGISTRY, Claim, Outcome
 
@@ -70,11 +71,13 @@ def _short(numbers, width=70):
 
 
 def main(argv=None) -> int:
-    """``python -m cross_check claims [--quick] [--json FILE] [--only ID ...]``: print the table."""
+    """``python -m cross_check claims [--quick] [--json FILE] [--out DIR] [--only ID ...]``: print the
+    table (and write it as JSON)."""
     import argparse
     ap = argparse.ArgumentParser(prog="python -m cross_check claims", description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="small grids (the test-suite settings)")
-    ap.add_argument("--json", metavar="FILE", help="write the full table as JSON")
+    ap.add_argument("--json", metavar="FILE", type=outputs.check_file, help="write the full table as JSON")
+    ap.add_argument("--out", metavar="DIR", type=outputs.check_folder, help="write the full table as DIR/claims.json")
     ap.add_argument("--only", nargs="+", metavar="ID", choices=list(CLAIMS), help=f"claim ids: {', '.join(CLAIMS)}")
     args = ap.parse_args(argv)
     print(f"{'id':24} {'verdict':15} {'s':>6}  numbers", flush=True)
@@ -85,8 +88,8 @@ def main(argv=None) -> int:
             print(f"{'':24} corrected: {row['corrected']}", flush=True)
 
     rows = run_claims(quick=args.quick, ids=args.only, progress=show)
-    if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(rows, fh, indent=1, default=str)
-        print(f"wrote {args.json}")
+    for path in filter(None, (args.json, args.out and args.out / "claims.json")):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(rows, indent=1, default=str))
+        print(f"wrote {path}")
     return 0

@@ -35,6 +35,7 @@ from fractions import Fraction
 
 import mpmath
 
+from cross_check import outputs
 from cross_check.progress import Progress
 from reference.enclosure.balls import decimal_ball, radius_text, workprec
 from reference.enclosure.branches import common_ticks, symmetric_cover
@@ -260,7 +261,7 @@ def main(argv=None) -> int:
                     "Fig. many:2pi.  Writes the shipped statements file the claims table reads.",
         epilog="Exit status: 0 written and consistent, 1 a chain has a problem (listed).  Takes "
                "about ten minutes on one core.")
-    ap.add_argument("--out", default=str(PATH), help=f"where to write (default: {PATH.relative_to(PATH.parents[2])})")
+    ap.add_argument("--out", default=str(PATH), type=outputs.check_file, help=f"where to write (default: {PATH.relative_to(PATH.parents[2])})")
     args = ap.parse_args(argv)
     progress = Progress()
     statements = compute(progress=progress)

@@ -27,6 +27,7 @@ import os
 import sys
 import time
 
+from cross_check import outputs
 from cross_check.paper.figures import fold, many, narrow, regions, resonance, three_per, xpot  # noqa: F401
 from cross_check.paper.figures.base import FULL, QUICK, REGISTRY, Drawn, Quality, finish, log
 
@@ -93,7 +94,7 @@ def main(argv=None):
     """``figures [--out DIR] [--only NAME] [--quick]``; exit status 0, or 2 on bad arguments."""
     parser = _Parser(prog="python -m cross_check figures",
                      description="Regenerate the paper's figures as PNG files.")
-    parser.add_argument("--out", default="figures", help="output directory (default: ./figures)")
+    parser.add_argument("--out", default="figures", type=outputs.check_folder, help="output directory (default: ./figures)")
     parser.add_argument("--only", default=None, help="one figure label, e.g. fig:fold or fig_fold")
     parser.add_argument("--quick", action="store_true", help="low resolution (seconds, for tests)")
     try:
