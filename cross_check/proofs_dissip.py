@@ -184,11 +184,11 @@ def main(argv=None) -> int:
 
     ap = argparse.ArgumentParser(
         prog="python -m cross_check prove --claim dissip-invariance",
-        description="Phi(Omega_dissip) in Omega_dissip, proved (a cover of the rest states, each box "
-                    "returning to rest within one period) or refuted (a proved counterexample ball), "
-                    "per scene.  Writes DIR/dissip_invariance.json.",
+        description="Phi(Omega_dissip) in Omega_dissip, proved (a cover of the rest states at times "
+                    "tau in [0, T), each box returning to rest by 2T) or refuted (a proved "
+                    "counterexample ball), per scene.  Writes DIR/dissip_invariance.json.",
         epilog="Exit status: 0 every scene proved or refuted, 1 one undecided, 2 bad input.  "
-               "Fig. fig:regs (fig:many:wide/f=0.6) takes about half a minute on one core.")
+               "Fig. fig:regs (fig:many:wide/f=0.6) takes about a second.")
     ap.add_argument("--claim", choices=[CLAIM], required=True, help="the claim (dissip-invariance)")
     ap.add_argument("--scenes", nargs="+", metavar="NAME", choices=list(scenes.SCENES),
                     help="built-in scenes")
