@@ -14,8 +14,9 @@ claims of ``cross_check.atlas.proved``).  On each box ``B`` of ``(f/F, w^2 R/F)`
   (``prove_counterexample`` on the ``ParamBox``, candidates from the centre's grid);
 * **undecided** otherwise, with the reason.  A box whose samples show violations but which
   is not refuted as a whole is searched for a sub-box (``2^-k`` of it, ``k`` in
-  ``SUB_STEPS``, about its most violating sample) on which a ball is proved for every parameter: ``refuted_inside`` holds
-  it -- the claim is then *false somewhere in* ``B``, proved, though not on all of it.
+  ``SUB_STEPS``, about its most violating sample) on which a ball is proved for every
+  parameter: ``refuted_inside`` holds it -- the claim is then *false somewhere in* ``B``,
+  proved, though not on all of it.
 
 The proofs of ``B`` need one itinerary for every parameter: at grid 16 the boxes are wide
 (``f/F`` by 1/16, ``w^2 R/F`` by a factor 1.39), and a counterexample ball rarely survives

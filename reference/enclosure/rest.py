@@ -20,7 +20,7 @@ with ``x`` measured from the start and ``y0`` the distance to the wall ahead:
    A state either sticks (``v = 0`` at once; should it be released at a later phase
    ``tau_b`` of the box, it then flies as the release from ``tau_b``, which the box holds:
    the bounds below hold for its flight too), or is released upwards: ``sigma v > 0`` just
-   after ``tau``, ``sigma v = (F/w) sigma (sin w t - sin w tau) - f (t - tau)``.  (The release
+   after ``tau``, ``sigma v = (F/w) sigma (sin w t - sin w tau) - f (t - tau)`` (undamped).  (The release
    boundary ``|A| = f`` needs no special case: the flight from it is in the box.)
 3. **a stage** from a start set (times ``t0``, speeds ``u >= 0``, ``v0 = sigma u``; ``y0`` the
    distance to the wall ahead).  Until its first zero of ``v`` the motion is the closed form
@@ -28,15 +28,15 @@ with ``x`` measured from the start and ``y0`` the distance to the wall ahead:
    If ``sigma v(t0 + H) < 0`` is proved over the set, the closed form has a zero in ``(0, H)``
    (intermediate values: ``sigma v > 0`` just after the start; a start with ``u = 0`` after an
    impact is a grazing impact, itself a zero of ``v``).  If moreover
-   ``y0 - sigma (x(h) - x0) > 0`` is proved on ``[0, H]``, no wall comes
-   first: the return takes at most ``H`` (:func:`positive`: the mean-value form on pieces).  Else let ``h_b`` be a time where the closed form is
-   proved beyond the wall for every start (none: ``h_b = H``; neither: the box is not
-   proved): by ``h_b`` every state has met its zero or the wall.  Every impact happens at a
-   relative time in ``[h_a, h_b]`` (the wall excluded on ``[0, h_a]``) with a speed ``V`` in
-   ``[V_min, V_max]``, the bounds of ``sigma v`` over ``[h_a, h_b]`` and the set (``V_min``
-   0 unless positive); the reset leaves ``-sigma e V``.  The next stage: ``-sigma``, from the
-   wall (``y0 = r - l``), times ``t0 + [h_a, h_b]``, speeds ``e [V_min, V_max]``; this one
-   took at most ``h_b``.
+   ``y0 - sigma (x(h) - x0) > 0`` is proved on ``[0, H]`` (:func:`positive`: mean-value forms
+   on pieces), no wall comes first: the return takes at most ``H``.  Else let ``h_b`` be a
+   time where the closed form is proved beyond the wall for every start (none: ``h_b = H``;
+   neither: the box is not proved): by ``h_b`` every state has met its zero or the wall.
+   Every impact happens at a relative time in ``[h_a, h_b]`` (the wall excluded on
+   ``[0, h_a]``) with a speed ``V`` in ``[V_min, V_max]``, the bounds of ``sigma v`` over
+   ``[h_a, h_b]`` and the set (``V_min`` 0 unless positive); the reset leaves ``-sigma e V``.
+   The next stage: ``-sigma``, from the wall (``y0 = r - l``), times ``t0 + [h_a, h_b]``,
+   speeds ``e [V_min, V_max]``; this one took at most ``h_b``.
 4. A state's return time is the sum of its stages' times, at most their bounds' sum; the box is
    proved when that bound is ``<= 2T - tau`` for every ``tau`` of the box (at most
    ``MAX_STAGES`` stages).
