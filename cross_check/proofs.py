@@ -20,7 +20,10 @@ stored golden record disagrees with its proof or a digit lies outside its ball.
   options: ``prove --atlas --help``);
 * ``--intervals``: the paper's branches proved on parameter intervals, written to the shipped
   ``cross_check/data/proved_intervals.json`` (``cross_check.paper.claims.intervals``; its own
-  options: ``prove --intervals --help``).
+  options: ``prove --intervals --help``);
+* ``--claim dissip-invariance``: ``Phi(Omega_dissip) in Omega_dissip`` proved or refuted by
+  proof per scene (``cross_check.proofs_dissip``; its own options: ``prove --claim
+  dissip-invariance --help``).
 """
 from __future__ import annotations
 
@@ -104,6 +107,9 @@ def main(argv=None) -> int:
         if flag in argv:
             import importlib
             return importlib.import_module(module).main([a for a in argv if a != flag])
+    if "--claim" in argv or any(a.startswith("--claim=") for a in argv):
+        from cross_check import proofs_dissip
+        return proofs_dissip.main(argv)
     ap = argparse.ArgumentParser(prog="python -m cross_check prove", description=__doc__.splitlines()[0],
                                  epilog="Without --golden or --orbits both run (about a minute on 2 cores).")
     ap.add_argument("--golden", action="store_true", help="re-prove every golden input and check the stored balls")
@@ -120,6 +126,8 @@ def main(argv=None) -> int:
                     help="the proved atlas over (f/F, w^2 R/F) boxes, on Dask (see prove --atlas --help)")
     ap.add_argument("--intervals", action="store_true",
                     help="the branches proved on parameter intervals (see prove --intervals --help)")
+    ap.add_argument("--claim", choices=["dissip-invariance"],
+                    help="prove or refute a claim per scene (see prove --claim dissip-invariance --help)")
     args = ap.parse_args(argv)
     try:
         user = scenefile.from_args(args)

@@ -273,3 +273,19 @@ def sticking_boundary_boxes(draw):
     r_lo = Fraction(round(x1_sticking_r(f_lo) * (1 + float(d)) * 10 ** 5), 10 ** 5)
     wf, wr = (Fraction(draw(st.sampled_from((1, 4, 16))), 10000) for _ in range(2))
     return ParamBox(F=1, f=(f_lo, f_lo + wf), omega=1, l=0, r=(r_lo, r_lo + wr))
+
+
+# --- dissip-invariance: scenes for the return-to-rest cover (tests/test_dissip_invariance.py) ----
+@st.composite
+def rest_scenes(draw):
+    """A scene with every effect the cover supports: ``F`` of a few sizes, ``f/F`` in
+    ``(0, 1.2]`` (below and above the fold and ``F``), one of three ``omega``, a gap of
+    ``0.5 .. 6``, restitution ``e`` in ``(0, 1]``, damping 0 or up to ``0.2 omega``."""
+    F = draw(st.sampled_from(("1", "0.5", "3")))
+    f = f"{draw(decimals(0.05, 1.2, 3))}*{F}"
+    omega = draw(st.sampled_from(("1", "2*pi", "0.7")))
+    l = draw(decimals(-1.0, 1.0, 2))
+    gap = draw(decimals(0.5, 6.0, 2))
+    e = draw(st.sampled_from(("1", "0.9", "0.5")))
+    c = draw(st.sampled_from(("0", "0", f"0.2*{omega}")))
+    return Scene(F=F, f=f, omega=omega, l=l, r=f"{l}+{gap}", restitution=e, damping=c)

@@ -12,7 +12,9 @@ as alone), and each orbit's round trip is checked on one batch of event logs:
   the symmetric solutions ``x1`` (a centre) and ``x2`` (a saddle) as non-sticking 2-impact fixed
   points -- Newton on ``Phi`` from the closed form at the nearest ``f`` where it exists (inside
   the fold, ``f <= 0.98 (2/pi) F``): beyond the fold or where the solution would stick, Newton
-  finds no such point.  Closed forms: the fold ``f/F = 2/pi``; ``x2`` non-sticking iff
+  finds no such point.  At ``f = 0`` a solution whose impacts sit on the section ``t = 0`` is
+  taken from the closed form, confirmed on ``fast`` (``_on_the_impact``: Newton has nothing to
+  converge to where ``Phi`` jumps).  Closed forms: the fold ``f/F = 2/pi``; ``x2`` non-sticking iff
   ``w^2 R > sqrt(4F^2 - pi^2 f^2)`` (corrected); the printed condition (``x1``'s alone);
 * ``subharmonic`` (``subharmonic-islands``): period-``m`` symmetric centres (``m = 1, 3, 5``; either
   branch), non-sticking, one round trip (2 impacts) in ``m`` periods, elliptic (``|tr| < 2``),
@@ -34,6 +36,7 @@ import mpmath
 import numpy as np
 
 from cross_check.dynamics import periodic, portraits
+from cross_check.tolerances import tol
 from reference import paper as P
 from reference.scene import Scene
 
@@ -117,13 +120,42 @@ def _newton(sc, seeds, m):
 
 def _centres(sc, fF, R, m):
     starts = {b: s for b in (1, 2) if (s := _start(fF, R, b, m)) is not None}
-    found = {b: got for b, got in zip(starts, _newton(sc, list(starts.values()), m) if starts else [])
+    on_wall = {b for b, s in starts.items() if fF == 0 and s[0] in (0.0, R)}
+    newton = [s for b, s in starts.items() if b not in on_wall]
+    found = {b: got for b, got in zip([b for b in starts if b not in on_wall],
+                                      _newton(sc, newton, m) if newton else [])
              if got is not None and got[0]}
+    trips = {b: _lazy(_round_trip, sc, float(got[1]), float(got[2]), m) for b, got in found.items()}
+    for b in sorted(on_wall):
+        got = _on_the_impact(sc, R, b, m, starts[b])
+        if got is not None:
+            found[b], trips[b] = got
     if not found:
         return {}
     kinds, _ = periodic.classify(np.array([got[3] for got in found.values()]))
-    return {b: (str(kind), float(np.trace(got[3])), _lazy(_round_trip, sc, float(got[1]), float(got[2]), m))
-            for kind, (b, got) in zip(kinds, found.items())}
+    return {b: (str(kind), float(np.trace(got[3])), trips[b]) for kind, (b, got) in zip(kinds, found.items())}
+
+
+def _on_the_impact(sc, R, branch, m, seed):
+    """``f = 0``: the symmetric solution's impacts fall on the section ``t = 0`` (``psi = 0``,
+    eq. ``nonstick``: ``sin psi = -m pi f / (2F)``), where ``Phi`` jumps (the strobe at
+    ``t = mT`` sees the particle at the wall just before or just after its impact): float64
+    Newton has no fixed point to converge to.  The closed form is the solution, confirmed on
+    ``fast``: from its state at the wall, ``m`` periods come back to the wall with the same
+    speed (either side of the impact, ``claim_fixed_point``).  ``(Newton-like result, round
+    trip)``: the trace from the closed form (a monodromy's trace does not depend on the
+    section; ``det = 1``), non-sticking from its margin (``paper.nonstick_margin > 0``: the
+    flights' speed never vanishes), else None."""
+    import fast
+    x0, v0 = seed
+    X, V = fast.stroboscopic_map(sc, np.array([x0]), np.array([v0]), periods=m)
+    atol = tol("claim_fixed_point").atol
+    if not (abs(X[0] - x0) <= atol * (1 + R) and abs(abs(V[0]) - abs(v0)) <= atol * (1 + abs(v0))):
+        return None
+    with mpmath.workdps(20):
+        tr = float(P.symmetric_solution(sc, branch, m=m, dps=20).trace())
+        moving = bool(P.nonstick_margin(sc, branch, m=m, dps=20) > 0)
+    return (True, x0, v0, np.array([[tr, -1.0], [1.0, 0.0]])), (lambda: moving)
 
 
 def _lazy(fn, *args):

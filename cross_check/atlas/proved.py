@@ -12,7 +12,9 @@ Krawczyk operator, ``reference.enclosure.branches``):
 * ``x1-centre``: the symmetric solution ``x1`` -- two impacts a period and no other event
   (non-sticking), unique in its Krawczyk box (of impact coordinates, or the shooting boxes), elliptic: ``|tr| < 2`` proved, ``det = 1``;
 * ``x2-saddle``: ``x2``, the same but a saddle: ``tr > 2`` proved;
-* ``period3-centre``: the symmetric period-3 solution (two impacts in three periods), elliptic.
+* ``period3-centre``: the symmetric period-3 solution (two impacts in three periods), elliptic;
+* ``dissip-invariance`` (on request: ``--claim dissip-invariance``): ``Phi(Omega_dissip)`` in
+  ``Omega_dissip``, proved, refuted or undecided per box (``cross_check.atlas.proved_dissip``).
 
 Each sub-box is proved in impact coordinates (``--method impacts``, the default:
 ``reference.enclosure.impacts``, the impact phases and speeds as the unknowns of closed-form
@@ -52,6 +54,7 @@ from flint import arb
 
 from cross_check import cluster, outputs
 from cross_check.atlas import claims as C
+from cross_check.atlas import proved_dissip as D
 from cross_check.progress import Progress
 from reference import paper as P
 from reference.enclosure.balls import decimal_ball, from_fraction, radius_text, workprec
@@ -61,6 +64,8 @@ from reference.enclosure.params import ParamBox
 #: claim -> (branch, periods m, proved type)
 CLAIMS = {"x1-centre": (1, 1, "elliptic"), "x2-saddle": (2, 1, "saddle"),
           "period3-centre": (1, 3, "elliptic")}
+#: every claim of the proved atlas (the orbit claims run by default)
+ALL_CLAIMS = tuple(CLAIMS) + (D.CLAIM,)
 #: sub-boxes one box may use (boxes at the edge of the numerical region get BOUNDARY_LEAVES)
 MAX_LEAVES, BOUNDARY_LEAVES = 512, 16
 CHUNK, RETRIES = 4, 3
@@ -187,13 +192,18 @@ def prove_box(claim, n, i, j, inside, crosses, window=PLANE, max_leaves=MAX_LEAV
     return rec
 
 
-def evaluate_chunk(n, cells, claims, window=PLANE, max_leaves=MAX_LEAVES, method=METHOD):
+def evaluate_chunk(n, cells, claims, window=PLANE, max_leaves=MAX_LEAVES, method=METHOD,
+                   dissip_boxes=D.MAX_BOXES):
     """One task: the records of every claim on the boxes ``cells`` (runs on a worker)."""
     out = []
+    orbit = tuple(c for c in claims if c in CLAIMS)
     for i, j in cells:
         box = box_of(n, i, j, window)
-        flags = [numerical(*p, claims) for p in _samples(box)]
+        flags = [numerical(*p, orbit) for p in _samples(box)] if orbit else []
         for claim in claims:
+            if claim == D.CLAIM:
+                out.append(D.prove_box(box, dissip_boxes))
+                continue
             hits = [fl[claim] for fl in flags]
             inside = True if all(hits) else (False if any(hits) else None)
             branch, m, kind = CLAIMS[claim]
@@ -203,12 +213,14 @@ def evaluate_chunk(n, cells, claims, window=PLANE, max_leaves=MAX_LEAVES, method
 
 
 def compute(n, claims=tuple(CLAIMS), *, scheduler=None, workers=2, client=None, chunk=CHUNK,
-            progress=None, window=PLANE, max_leaves=MAX_LEAVES, method=METHOD):
+            progress=None, window=PLANE, max_leaves=MAX_LEAVES, method=METHOD, dissip_boxes=D.MAX_BOXES):
     """``(records, stats)``: every claim on every box, in grid order (``i`` over ``w^2 R/F``,
     then ``j`` over ``f/F``, then the claims), on ``client`` or a new cluster."""
-    unknown = [c for c in claims if c not in CLAIMS]
+    unknown = [c for c in claims if c not in ALL_CLAIMS]
     if unknown:
-        raise ValueError(f"unknown proved-atlas claim(s) {unknown}; known: {', '.join(CLAIMS)}")
+        raise ValueError(f"unknown proved-atlas claim(s) {unknown}; known: {', '.join(ALL_CLAIMS)}")
+    if not (isinstance(dissip_boxes, int) and not isinstance(dissip_boxes, bool) and dissip_boxes >= 1):
+        raise ValueError(f"max_boxes must be an int >= 1, got {dissip_boxes!r}")
     if not (isinstance(n, int) and not isinstance(n, bool) and 2 <= n <= 256):
         raise ValueError(f"grid must be an int in [2, 256], got {n!r}")
     cluster.check_workers(workers)
@@ -218,12 +230,12 @@ def compute(n, claims=tuple(CLAIMS), *, scheduler=None, workers=2, client=None, 
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     cells = [(i, j) for i in range(n) for j in range(n)]
-    tag = zlib.crc32(repr((tuple(claims), tuple(window), max_leaves, chunk, method)).encode())
+    tag = zlib.crc32(repr((tuple(claims), tuple(window), max_leaves, chunk, method, dissip_boxes)).encode())
     chunks = [cells[k:k + chunk] for k in range(0, len(cells), chunk)]
     with cluster.client(scheduler, workers, given=client) as client:
         t0 = time.perf_counter()
         futures = {client.submit(evaluate_chunk, n, part, tuple(claims), window, max_leaves, method,
-                                 retries=RETRIES, pure=False,
+                                 dissip_boxes, retries=RETRIES, pure=False,
                                  key=f"proved-atlas-{n}-{k}-{tag}"): k
                    for k, part in enumerate(chunks)}
         results = [None] * len(chunks)
@@ -244,6 +256,9 @@ def summary(records):
     out = {}
     for claim in dict.fromkeys(r["claim"] for r in records):
         mine = [r for r in records if r["claim"] == claim]
+        if claim == D.CLAIM:
+            out[claim] = D.summary(mine)
+            continue
         inside = [r for r in mine if r["inside_numerical"]]
         clean = [r for r in inside if not r["crosses_tr_minus_2"]]
         proved = lambda rs: sum(r["status"] == "proved" for r in rs)  # noqa: E731
@@ -312,6 +327,9 @@ def draw(records, n, out_dir, window=PLANE):
 
     paths = []
     for claim in dict.fromkeys(r["claim"] for r in records):
+        if claim == D.CLAIM:
+            paths.append(D.draw([r for r in records if r["claim"] == claim], n, out_dir, window))
+            continue
         fig, ax = plt.subplots(figsize=(6.4, 4.8))
         for r in (r for r in records if r["claim"] == claim):
             (f0, f1), (R0, R1) = r["f_over_F"], r["w2R_over_F"]
@@ -355,10 +373,14 @@ def main(argv=None) -> int:
         description="The proved atlas: x1-centre, x2-saddle and period3-centre proved for every "
                     "parameter of each box of an N x N cover of (f/F, w^2 R/F), on Dask.  Writes "
                     "proved_atlas.json (one record per claim and box), proved_atlas_meta.json and "
-                    "one PNG per claim.",
+                    "one PNG per claim; --claim dissip-invariance adds Phi(Omega_dissip) in "
+                    "Omega_dissip, proved / refuted / undecided per box.",
         epilog="Exit status: 0 written, 2 bad input.  N = 32 takes about a minute on 2 workers (impacts; shooting: about 25 minutes).")
     ap.add_argument("--grid", type=int, default=32, help="N: N x N boxes (default 32)")
-    ap.add_argument("--claim", nargs="+", choices=list(CLAIMS), default=list(CLAIMS), help="claims (default: all)")
+    ap.add_argument("--claim", nargs="+", choices=list(ALL_CLAIMS), default=list(CLAIMS),
+                    help="claims (default: the orbit claims; dissip-invariance on request)")
+    ap.add_argument("--max-boxes", type=int, default=D.MAX_BOXES,
+                    help=f"dissip-invariance: cover boxes tried per atlas box (default {D.MAX_BOXES})")
     group = ap.add_mutually_exclusive_group()
     group.add_argument("--workers", type=int, default=2, help="local worker processes (default 2)")
     group.add_argument("--scheduler", default=None, help="tcp://HOST:PORT of a running dask scheduler")
@@ -380,12 +402,16 @@ def main(argv=None) -> int:
     try:
         records, stats = compute(args.grid, tuple(args.claim), scheduler=args.scheduler, workers=args.workers,
                                  window=window, max_leaves=args.max_leaves, method=args.method,
-                                 progress=Progress())
+                                 dissip_boxes=args.max_boxes, progress=Progress())
     except ValueError as exc:
         print(f"prove --atlas: {exc}", file=sys.stderr)
         return 2
     summ = write(args.out, records, args.grid, stats, window)
     for claim, s in summ.items():
+        if claim == D.CLAIM:
+            print(f"{claim}: {s['proved']} proved, {s['refuted']} refuted, {s['undecided']} undecided of "
+                  f"{s['boxes']} boxes ({s['refuted_inside']} refuted on a sub-box; {stats['seconds']} s)")
+            continue
         frac = "n/a" if s["fraction_inside"] is None else f"{100 * s['fraction_inside']:.1f}%"
         print(f"{claim}: {s['proved_inside']} of {s['inside']} boxes inside the numerical region proved "
               f"({frac}; {s['proved']} proved in all, {stats['seconds']} s on {stats['workers']} workers)")

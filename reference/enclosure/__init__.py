@@ -42,7 +42,10 @@ rests on balls, event functions), ``series`` (the position-forced flight's Taylo
 coefficients on balls), ``lohner`` (validated flights), ``certify`` (exclusion and Krawczyk
 roots), ``walk`` (the itinerary, event by event, chatter tails), ``maps`` (``enclose_map``),
 ``orbits`` (``prove_periodic``); over parameter boxes ``params``, ``sensitivity``, ``centred``,
-``shooting``, ``boxes``, ``dual``, ``impacts``, ``continuation``, ``branches``.
+``shooting``, ``boxes``, ``dual``, ``impacts``, ``continuation``, ``branches``; the
+invariance of ``Omega_dissip`` (``Phi(Omega_dissip)`` in ``Omega_dissip``): ``rest`` (the
+return-to-rest certificate of a box of rest states) and ``invariance`` (the cover, and the
+counterexample certificate over ``[0, 2T]``).
 """
 from reference.enclosure.certify import Unproved
 from reference.enclosure.impacts import prove_two_impacts

@@ -3,6 +3,9 @@ Omega_dissip, area preservation off it, and Table 1's matrices against finite di
 """
 from __future__ import annotations
 
+import json
+import pathlib
+
 import mpmath
 import numpy as np
 
@@ -10,11 +13,21 @@ import reference
 from reference import paper as P
 from cross_check.dynamics.portraits import dissipative_invariance
 from cross_check.paper.claims.base import Outcome, cell_grid, claim, fl, itinerary, period
-from cross_check.scenes import narrow, two_pi, wide
+from cross_check.scenes import narrow, scene, two_pi, wide
+from reference.scene import Scene
 
 #: the three scenes of the region claims, with the velocity window of their grids
 REGION_SCENES = (("wide_f0.6", wide("0.6"), (-4.0, 10.0)), ("2pi_f0.05", two_pi("0.05"), (-6.0, 6.0)),
                  ("narrow_f0.005", narrow("0.005"), (-2.0, 2.0)))
+#: the scenes of the proof of ``dissip-invariance`` (``prove --claim dissip-invariance --shipped``):
+#: the region scenes by their registry names, and the atlas point where an independent check
+#: found a violation (f/F = 0.0234, w^2 R/F = 4.48; the atlas's F = w = 1, l = 0)
+PROOF_SCENES = (("wide_f0.6", scene("fig:many:wide/f=0.6")), ("2pi_f0.05", scene("fig:many:2pi/f=0.05")),
+                ("narrow_f0.005", scene("fig:narrow-with-friction")),
+                ("atlas_f0.0234_R4.48", Scene(name="atlas:f/F=0.0234,w2R/F=4.48", F=1, f="0.0234",
+                                              omega=1, l=0, r="4.48")))
+#: the shipped results of that proof (read by the claim, written by ``--shipped``)
+PROOF_PATH = pathlib.Path(__file__).resolve().parents[2] / "data" / "dissip_invariance.json"
 
 
 def _confirm_violation(sc, x, v):
@@ -27,6 +40,31 @@ def _confirm_violation(sc, x, v):
     return any(e.kind in zero for e in first) and not any(e.kind in zero for e in second) and second.v_end != 0
 
 
+def proof_lines(path=None) -> dict:
+    """Per scene of ``PROOF_SCENES``, what ``prove --claim dissip-invariance --shipped`` proved
+    (the shipped ``PROOF_PATH``): ``PROVED`` (a cover of the rest states, each box returning
+    to rest within one period), ``REFUTED BY PROOF`` (a counterexample ball) or ``UNDECIDED``,
+    with the statement; one line saying how to make the file if it is missing."""
+    path = PROOF_PATH if path is None else pathlib.Path(path)
+    if not path.exists():
+        return {"missing": f"not computed: python -m cross_check prove --claim dissip-invariance --shipped "
+                           f"writes {path.name}"}
+    words = {"proved": "PROVED", "refuted": "REFUTED BY PROOF", "undecided": "UNDECIDED"}
+    out = {}
+    for rec in json.loads(path.read_text())["scenes"]:
+        line = {"verdict": words[rec["verdict"]], "scene": rec["scene"]["name"], "statement": rec["reason"]}
+        if rec["verdict"] == "proved":
+            line["boxes"] = len(rec["boxes"])
+            line["longest_return_bound"] = max(b["return_within"] for b in rec["boxes"])
+        ce = rec["counterexample"]
+        if ce is not None:
+            line["statement"] = (f"every start of x = {ce['x'][0]!r} +- {ce['x'][1]:.3g}, v = "
+                                 f"{ce['v'][0]!r} +- {ce['v'][1]:.3g} has v = 0 before t = "
+                                 f"{ce['zero_before']:.6g} <= T and v != 0 on all of [T, 2T]")
+        out[rec["label"]] = line
+    return out
+
+
 @claim("dissip-invariance",
        "Phi(Omega_dissip) is a subset of Omega_dissip (Fig. fig:regs): a solution with zero velocity "
        "during one period has zero velocity at least once in each later period",
@@ -34,7 +72,9 @@ def _confirm_violation(sc, x, v):
        note="membership by definition (fast.zero_velocity). Holds on the grid for the scene of Fig. fig "
             "(identified by its eigenvalues); NOT a general property: in the scenes of Fig. f005 and "
             "narrow-with-friction some dissipative states map to non-sticking ones (first one confirmed "
-            "by reference event logs)")
+            "by reference event logs). numbers.proof: per scene PROVED (every rest state returns to rest "
+            "within one period, a cover by boxes) or REFUTED BY PROOF (a counterexample ball), from the "
+            "shipped cross_check/data/dissip_invariance.json (prove --claim dissip-invariance --shipped)")
 def dissip_invariance(quick):
     n = 40 if quick else 150
     out = {}
@@ -44,6 +84,7 @@ def dissip_invariance(quick):
         if res["violations"]:
             res["reference_confirms_first_violation"] = _confirm_violation(sc, *res["violations"][0])
         out[label] = res
+    out["proof"] = proof_lines()
     ok = out["wide_f0.6"]["n_violations"] == 0
     return Outcome("reproduced" if ok else "not reproduced", out, parameters={
         "grid": f"{n} x {n} states (cell centres) per scene; fig:regs scene identified as wide f=0.6"})
