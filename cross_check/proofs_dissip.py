@@ -39,7 +39,7 @@ from fractions import Fraction
 
 from flint import arb
 
-from cross_check import golden, scenefile, scenes
+from cross_check import golden, outputs, scenefile, scenes
 from cross_check.dynamics import violations
 from cross_check.paper.claims import regions
 from cross_check.progress import Progress
@@ -193,7 +193,8 @@ def main(argv=None) -> int:
     ap.add_argument("--scenes", nargs="+", metavar="NAME", choices=list(scenes.SCENES),
                     help="built-in scenes")
     scenefile.add_arguments(ap, "prove the claim on")
-    ap.add_argument("--out", default="dissip_invariance", help="output directory (default: dissip_invariance/)")
+    ap.add_argument("--out", default="dissip_invariance", type=outputs.check_folder,
+                    help="output directory (default: dissip_invariance/)")
     ap.add_argument("--max-boxes", type=int, default=MAX_BOXES,
                     help=f"boxes the cover may try per scene (default {MAX_BOXES})")
     ap.add_argument("--no-search", action="store_true", help="skip the counterexample search (cover only)")

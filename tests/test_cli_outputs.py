@@ -33,7 +33,9 @@ RUNS = {
     "atlas": [(("--grid", "2"), "--out", "folder")],
     "sensitivity": [((), "--out", "folder")],
     "prove": [(("--golden",), "--out", "folder"), (("--golden",), "--json", "file"),
-              (("--atlas", "--grid", "2"), "--out", "folder"), (("--intervals",), "--out", "file")],
+              (("--atlas", "--grid", "2"), "--out", "folder"), (("--intervals",), "--out", "file"),
+              (("--claim", "dissip-invariance", "--scenes", "fig:narrow"), "--out", "folder"),
+              (("--atlas", "--claim", "dissip-invariance", "--grid", "2"), "--out", "folder")],
     "verify": [((EXAMPLE, "--quick"), "--out", "folder")],
     "league": [(("--quick",), "--out", "folder")],
 }
