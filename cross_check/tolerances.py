@@ -196,18 +196,20 @@ TOLERANCES = {
             "1e-50/1e-15 = 1e-35"),
     "ode_vs_taylor_flight": Tol(
         rtol=1e-13, atol=1e-13,
-        why="fast DOP853 flight (96 steps per 2 pi / Lambda, order 8, dense output of order 7) "
-            "against the Taylor flight at 30 digits, for |v| <= 4 and up to one period, x, v "
-            "and the flight matrix: measured ~1e-15 (order-8 local error (h Lambda)^9 with "
-            "Lambda = max(w, k |v|, sqrt(F k)), h Lambda = 2 pi/96, plus ~1e2 ulp "
-            "of rounding); 1e-13 is fast_one_period_max's budget for a flight.  Also the "
+        why="fast DOP853 flight (128 steps per 2 pi / Lambda, order 8, compensated: "
+            "fast.compensated) against the Taylor flight at 30 digits, for |v| <= 4 and up to "
+            "one period, x, v and the flight matrix: measured ~1e-15 (before issue 33's "
+            "compensation: order-8 local error (h Lambda)^9 with Lambda = max(w, k |v|, "
+            "sqrt(F k)), h Lambda = 2 pi/96, plus ~1e2 ulp of rounding; the flight matrix is "
+            "not compensated); 1e-13 is fast_one_period_max's budget for a flight.  Also the "
             "period Jacobian of fast.ode's event loop against differences of the reference map "
             "(Table 1's event matrices are a few exact float products on top)"),
     "ode_event_residual": Tol(
         rtol=0.0, atol=1e-13,
         why="the reference event function (wall distance or velocity, from the Taylor flight) "
-            "at the fast event time: the root is polished on the dense output to a few ulp, "
-            "the dense output's error is that of ode_vs_taylor_flight; measured in g's own "
+            "at the fast event time: the root is polished on the dense output to a few ulp "
+            "and moved by a Newton step from a compensated step onto it (fast.compensated."
+            "event), the state's error is that of ode_vs_taylor_flight; measured in g's own "
             "units, so free of the 1/|g'| conditioning of the event time"),
 }
 
