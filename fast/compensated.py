@@ -59,11 +59,11 @@ def reset(wk, t_end_lo):
 
 
 @kernel(inline=True)
-def begin(wk, t, e):
+def begin(wk, t, e, e_lo):
     """A flight from the float64 state ``wk[Y0]`` at ``t``: the low part of ``x`` is the last
     event's if ``x`` is its position (a turn, or rest there since); if ``t`` is the time the
     last flight reached (no rest in between), the clock's low part is kept, and so is that of
-    ``v`` if ``v`` is the event's or its reflection ``-e v`` (rounded; the product's error goes
+    ``v`` if ``v`` is the event's or its reflection ``-(e + e_lo) v`` (rounded; the rest goes
     into the low part); all other low parts are 0."""
     for m in range(6):
         wk[dp.L0 + m] = 0.0
@@ -78,7 +78,7 @@ def begin(wk, t, e):
     else:
         p, err = dd.two_prod(-e, wk[EVH])
         if v == p:
-            wk[dp.L0 + 1] = err - e * wk[EVL]
+            wk[dp.L0 + 1] = err - (e * wk[EVL] + e_lo * wk[EVH])
 
 
 @kernel(inline=True)

@@ -65,8 +65,8 @@ MAX_BOUNCES = 5000
 STEPS_PER_EVENT = 16
 OK, EVENT_BUDGET, LOOP_BOUND, NON_FINITE = batch.OK, batch.EVENT_BUDGET, batch.LOOP_BOUND, batch.NON_FINITE
 #: slots of P
-F, FF, DAMP, K, W, E, L, R, T, T_LO, K_LO, W_LO, F_LO, FF_LO, DAMP_LO = range(15)
-SIZE = 15
+F, FF, DAMP, K, W, E, L, R, T, T_LO, K_LO, W_LO, F_LO, FF_LO, DAMP_LO, E_LO = range(16)
+SIZE = 16
 #: the flight's constants and their low parts, in ``fast.compensated.constants``' order
 DD_SLOTS = (F, F_LO, FF, FF_LO, DAMP, DAMP_LO, K, K_LO, W, W_LO)
 #: modes of the loop, and the event codes of a flight
@@ -84,7 +84,7 @@ p = _Slots
 
 
 def params(scene):
-    """``P``: ``e, l, r`` as float64, ``F, f, c, k, w`` and the period ``T = 2 pi / w`` as
+    """``P``: ``l, r`` as float64, ``F, f, c, k, w, e`` and the period ``T = 2 pi / w`` as
     double-doubles (``F + F_LO``, ..., read at 40 digits: ``fast.compensated``), after the
     range check of ``fast.params.check_ranges`` (``ValueError`` naming what float64 cannot
     hold)."""
@@ -95,11 +95,11 @@ def params(scene):
         check_ranges(scene, fast_quantities(scene, _quantities(scene)))
         period = 2 * mpmath.pi / scene.mpf("omega")
     P = np.zeros(SIZE)
-    P[E], P[L], P[R] = scene.float("restitution"), scene.float("l"), scene.float("r")
+    P[L], P[R] = scene.float("l"), scene.float("r")
     with mpmath.workdps(40):
         P[T], P[T_LO] = split_exact(period)
         for slot, lo, name in ((F, F_LO, "F"), (FF, FF_LO, "f"), (DAMP, DAMP_LO, "damping"),
-                               (K, K_LO, "wavenumber"), (W, W_LO, "omega")):
+                               (K, K_LO, "wavenumber"), (W, W_LO, "omega"), (E, E_LO, "restitution")):
             P[slot], P[lo] = split_exact(scene.mpf(name) or mpmath.mpf(0))
     return P
 
@@ -241,7 +241,7 @@ def _fly(P, st, wk, t_end, n, max_steps):
     wall = P[R] if s > 0.0 else P[L]
     xs = max(1.0, abs(wall))
     no_v = P[F] == 0.0 and P[FF] == 0.0            # no force: v never changes sign
-    cs.begin(wk, st[q.TT], P[E])
+    cs.begin(wk, st[q.TT], P[E], P[E_LO])
     for k in range(max_steps):
         t = st[q.TT]
         x, v = wk[dp.Y0], wk[dp.Y0 + 1]
