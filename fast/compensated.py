@@ -126,22 +126,22 @@ def step(P, slots, s, t, h, wk, n, dense):
 
 
 @kernel
-def event(wk, t, d, h, n, wall, at_wall):
+def event(wk, t, d, h, n, wall, wall_lo, at_wall):
     """The event that the search found at ``t + d`` on the dense output, after a ``step`` of
     length ``d`` with ``dense`` from the same start (order 8, compensated: the dense output
     is of order 7, 20 eps off at ``F/Lambda^2 ~ 1``) and its rate at the end (the first dense
-    stage): one Newton step of the event's time, ``dt = (W - x)/v`` at a wall, ``-v/a`` at a
-    velocity zero (none where it exceeds ``2^-20 h``: a tangency).  ``wk[Y0]`` gets the state
-    there (``x = wall`` or ``v = 0``), ``EXH .. EVL`` the same as double-doubles; returns the
-    time's high part (``at``)."""
+    stage): one Newton step of the event's time, ``dt = (W - x)/v`` at the wall ``W = wall +
+    wall_lo``, ``-v/a`` at a velocity zero (none where it exceeds ``2^-20 h``: a tangency).
+    ``wk[Y0]`` gets the state there (``x = wall`` or ``v = 0``), ``EXH .. EVL`` the same as
+    double-doubles; returns the time's high part (``at``)."""
     v, a = wk[dp.Y1 + 1] + wk[dp.L1 + 1], wk[dp.K + 6 * dp.NS + 1]
-    dt = ((wall - wk[dp.Y1]) - wk[dp.L1]) / v if at_wall else -v / a
+    dt = ((wall - wk[dp.Y1]) + (wall_lo - wk[dp.L1])) / v if at_wall else -v / a
     if not abs(dt) <= 2.0 ** -20 * h:
         dt = 0.0
     for m in range(n):                              # (the flight matrix moved by dt as well)
         wk[dp.Y0 + m] = wk[dp.Y1 + m] + (wk[dp.L1 + m] + wk[dp.K + 6 * dp.NS + m] * dt)
     if at_wall:
-        wk[EXH], wk[EXL] = wall, 0.0
+        wk[EXH], wk[EXL] = wall, wall_lo
         wk[EVH], wk[EVL] = dd.two_sum(wk[dp.Y1 + 1], wk[dp.L1 + 1] + a * dt)
     else:
         wk[EXH], wk[EXL] = dd.two_sum(wk[dp.Y1], wk[dp.L1] + v * dt)

@@ -25,8 +25,8 @@ the result moved by 1-2 ulp with the start time of a flight).  Hence:
   digits: their float64 roundings sum to 1 only within ~eps, a consistency error that no step
   count removes) and the accelerations' (``AL``).  For the components whose rate is another
   component (``x' = v``, ``J1' = J2``) the Nystrom form of the same step, ``dy = h v0 + h^2 sum
-  bbar_j a_j`` with ``bbar = b A`` (the same step in exact arithmetic: the roundings of the
-  stage velocities drop out);
+  bbar_j a_j`` with ``bbar = b A`` to 30 digits (the same step in exact arithmetic: the
+  roundings of the stage velocities drop out);
 * the trigonometry at the step's start in double-double, ``cos, sin(w t0)`` and ``cos, sin(k
   x0)`` (``TRIG``, ``fast.compensated``), and per stage the rotation by the small angles ``u =
   w c_i h`` and ``delta = k (x_i - x0)`` (``|u|, |delta| <~ 2 pi / S``: series ``_small`` to
@@ -56,6 +56,13 @@ _B30 = {0: "5.42937341165687622380535766363e-2", 5: "4.4503128927524088814411395
         6: "1.89151789931450038304281599044", 7: "-5.8012039600105847814672114227",
         8: "3.1116436695781989440891606237e-1", 9: "-1.52160949662516078556178806805e-1",
         10: "2.01365400804030348374776537501e-1", 11: "4.47106157277725905176885569043e-2"}
+#: the Nystrom weights bbar = b A (below) to 30 digits, from the 30-digit tableau of the same
+#: source: with float64's A they sum to 1/2 only within 8e-16, which moved x by ~0.5 eps a
+#: flight (bbar_3, bbar_4 are 0 to 30 digits, 7e-17 and -2e-17 from float64's A)
+_BB30 = {0: "5.42937341165687622380535766366e-2", 5: "2.96687526183493925429409300378",
+         6: "1.41863842448587528728211199283", 7: "-4.01621812616117407947730021572",
+         8: "1.08508599759650014460545088417e-1", 9: "-6.08643798650064314224715227204e-2",
+         10: "2.87664858291471926249680767858e-2"}
 NS = _dop.N_STAGES                                   # 12
 NK = _dop.A.shape[0]                                 # 16 with the dense-output stages
 A = np.ascontiguousarray(_dop.A, dtype=np.float64)
@@ -65,9 +72,13 @@ D = np.ascontiguousarray(_dop.D, dtype=np.float64)
 with mpmath.workdps(40):
     assert all(float(mpmath.mpf(b)) == B[j] for j, b in _B30.items()), "scipy's DOP853 weights changed"
     B_LO = np.array([float(mpmath.mpf(_B30[j]) - B[j]) if j in _B30 else 0.0 for j in range(NS)])
-    #: the Nystrom weights bbar = b A of the position-like components
-    BB = np.array([float(sum(mpmath.mpf(b) * mpmath.mpf(A[i, j]) for i, b in _B30.items()))
-                   for j in range(NS)])
+    _bb = [mpmath.mpf(_BB30.get(j, 0)) for j in range(NS)]
+    assert abs(sum(_bb) - mpmath.mpf(1) / 2) < 1e-28, "bbar must sum to 1/2"
+    assert all(abs(_bb[j] - sum(mpmath.mpf(b) * mpmath.mpf(A[i, j]) for i, b in _B30.items())) < 1e-14
+               for j in range(NS)), "bbar is not b A of scipy's tableau"
+    #: the Nystrom weights of the position-like components, high and low parts
+    BB = np.array([float(b) for b in _bb])
+    BB_LO = np.array([float(b - float(b)) for b in _bb])
 #: the component that is the rate of each component (x' = v, J1' = J2), -1 where none is
 RATE_OF = np.array([1, -1, 4, 5, -1, -1])
 #: 1/n! with alternating signs: cos d - 1 = d^2 (C2 + d^2 (C4 + ...)), sin d = d + d^3 (S3 + ...)
@@ -169,11 +180,12 @@ def _end(h, wk, n):
     for m in range(n):
         p = RATE_OF[m]
         if p >= 0:                                    # Nystrom: h v0 + h^2 sum bbar_j a_j
-            acc = 0.0
+            acc, lo = 0.0, 0.0
             for j in range(NS):
                 acc += BB[j] * wk[K + 6 * j + p]
+                lo += BB_LO[j] * wk[K + 6 * j + p]
             dh, dl = dd.two_prod(h, wk[Y0 + p])
-            dl += h * wk[L0 + p] + h * h * acc
+            dl += h * wk[L0 + p] + h * h * (acc + lo)
         elif m == 1:                                  # Dot2 of the weights and accelerations
             acc, lo = 0.0, 0.0
             for j in range(NS):

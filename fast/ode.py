@@ -65,8 +65,8 @@ MAX_BOUNCES = 5000
 STEPS_PER_EVENT = 16
 OK, EVENT_BUDGET, LOOP_BOUND, NON_FINITE = batch.OK, batch.EVENT_BUDGET, batch.LOOP_BOUND, batch.NON_FINITE
 #: slots of P
-F, FF, DAMP, K, W, E, L, R, T, T_LO, K_LO, W_LO, F_LO, FF_LO, DAMP_LO, E_LO = range(16)
-SIZE = 16
+F, FF, DAMP, K, W, E, L, R, T, T_LO, K_LO, W_LO, F_LO, FF_LO, DAMP_LO, E_LO, L_LO, R_LO = range(18)
+SIZE = 18
 #: the flight's constants and their low parts, in ``fast.compensated.constants``' order
 DD_SLOTS = (F, F_LO, FF, FF_LO, DAMP, DAMP_LO, K, K_LO, W, W_LO)
 #: modes of the loop, and the event codes of a flight
@@ -84,8 +84,7 @@ p = _Slots
 
 
 def params(scene):
-    """``P``: ``l, r`` as float64, ``F, f, c, k, w, e`` and the period ``T = 2 pi / w`` as
-    double-doubles (``F + F_LO``, ..., read at 40 digits: ``fast.compensated``), after the
+    """``P``: ``F, f, c, k, w, e, l, r`` and the period ``T = 2 pi / w`` as double-doubles (``F + F_LO``, ..., read at 40 digits: ``fast.compensated``), after the
     range check of ``fast.params.check_ranges`` (``ValueError`` naming what float64 cannot
     hold)."""
     import mpmath
@@ -95,11 +94,11 @@ def params(scene):
         check_ranges(scene, fast_quantities(scene, _quantities(scene)))
         period = 2 * mpmath.pi / scene.mpf("omega")
     P = np.zeros(SIZE)
-    P[L], P[R] = scene.float("l"), scene.float("r")
     with mpmath.workdps(40):
         P[T], P[T_LO] = split_exact(period)
         for slot, lo, name in ((F, F_LO, "F"), (FF, FF_LO, "f"), (DAMP, DAMP_LO, "damping"),
-                               (K, K_LO, "wavenumber"), (W, W_LO, "omega"), (E, E_LO, "restitution")):
+                               (K, K_LO, "wavenumber"), (W, W_LO, "omega"), (E, E_LO, "restitution"),
+                               (L, L_LO, "l"), (R, R_LO, "r")):
             P[slot], P[lo] = split_exact(scene.mpf(name) or mpmath.mpf(0))
     return P
 
@@ -264,7 +263,8 @@ def _fly(P, st, wk, t_end, n, max_steps):
             th = min(thw, thv)
         if th < math.inf:
             cs.step(P, DD_SLOTS, s, t, th * h, wk, n, True)       # the event's state: a step
-            st[q.TT] = cs.event(wk, t, th * h, h, n, wall, thw <= thv)
+            wall_lo = P[R_LO] if s > 0.0 else P[L_LO]
+            st[q.TT] = cs.event(wk, t, th * h, h, n, wall, wall_lo, thw <= thv)
             return (WALL if thw <= thv else VZERO), k + 1
         st[q.TT] = cs.advance(wk, t, h, last, t_end, n)
         if last:
