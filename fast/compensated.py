@@ -59,20 +59,27 @@ def reset(wk, t_end_lo):
 
 
 @kernel(inline=True)
-def begin(wk, t, e, e_lo):
+def begin(wk, t, P, slots):
     """A flight from the float64 state ``wk[Y0]`` at ``t``: the low part of ``x`` is the last
-    event's if ``x`` is its position (a turn, or rest there since); if ``t`` is the time the
-    last flight reached (no rest in between), the clock's low part is kept, and so is that of
+    event's if ``x`` is its position (a turn, or rest there since), else the wall's if ``x``
+    is a wall (contact: fast's walls are ``l, r`` as float64); if ``t`` is the time the last
+    flight reached (no rest in between), the clock's low part is kept, and so is that of
     ``v`` if ``v`` is the event's or its reflection ``-(e + e_lo) v`` (rounded; the rest goes
-    into the low part); all other low parts are 0."""
+    into the low part); all other low parts are 0.  ``slots`` as in ``constants``."""
+    cst = constants(P, slots)
     for m in range(6):
         wk[dp.L0 + m] = 0.0
-    if wk[dp.Y0] == wk[EXH]:
+    x = wk[dp.Y0]
+    if x == wk[EXH]:
         wk[dp.L0] = wk[EXL]
+    elif x == cst[12]:
+        wk[dp.L0] = cst[13]
+    elif x == cst[14]:
+        wk[dp.L0] = cst[15]
     if wk[THI] != t:
         wk[THI], wk[TLO] = t, 0.0
         return
-    v = wk[dp.Y0 + 1]
+    v, e, e_lo = wk[dp.Y0 + 1], cst[10], cst[11]
     if v == wk[EVH]:
         wk[dp.L0 + 1] = wk[EVL]
     else:
@@ -107,10 +114,12 @@ def _trig(ah, al):
 
 @kernel(inline=True)
 def constants(P, slots):
-    """The flight's constants ``(F, F_lo, f, f_lo, c, c_lo, k, k_lo, w, w_lo)`` of
-    ``fast.dop853.rhs`` from the slots ``slots`` (in that order) of ``P``."""
+    """The scene's constants as double-doubles, ``(F, F_lo, f, f_lo, c, c_lo, k, k_lo, w, w_lo,
+    e, e_lo, l, l_lo, r, r_lo)`` (the first ten are ``fast.dop853.rhs``' ``cst``), from the
+    slots ``slots`` (in that order) of ``P``."""
     return (P[slots[0]], P[slots[1]], P[slots[2]], P[slots[3]], P[slots[4]], P[slots[5]],
-            P[slots[6]], P[slots[7]], P[slots[8]], P[slots[9]])
+            P[slots[6]], P[slots[7]], P[slots[8]], P[slots[9]], P[slots[10]], P[slots[11]],
+            P[slots[12]], P[slots[13]], P[slots[14]], P[slots[15]])
 
 
 @kernel

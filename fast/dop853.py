@@ -25,8 +25,10 @@ the result moved by 1-2 ulp with the start time of a flight).  Hence:
   digits: their float64 roundings sum to 1 only within ~eps, a consistency error that no step
   count removes) and the accelerations' (``AL``).  For the components whose rate is another
   component (``x' = v``, ``J1' = J2``) the Nystrom form of the same step, ``dy = h v0 + h^2 sum
-  bbar_j a_j`` with ``bbar = b A`` to 30 digits (the same step in exact arithmetic: the
-  roundings of the stage velocities drop out);
+  bbar_j a_j`` with ``bbar = b A`` to 30 digits, and the stages' positions likewise, ``x_i =
+  x0 + c_i h v0 + h^2 sum (A^2)_ij a_j`` (the same step in exact arithmetic: the roundings of
+  the stage velocities drop out, and so does the cancellation in ``h sum a_ij v_j`` -- rows of
+  ``|A|`` sum to 96 -- which moved the stage's ``cos(k x)`` by ~100 eps ``h |v|``);
 * the trigonometry at the step's start in double-double, ``cos, sin(w t0)`` and ``cos, sin(k
   x0)`` (``TRIG``, ``fast.compensated``), and per stage the rotation by the small angles ``u =
   w c_i h`` and ``delta = k (x_i - x0)`` (``|u|, |delta| <~ 2 pi / S``: series ``_small`` to
@@ -79,6 +81,11 @@ with mpmath.workdps(40):
     #: the Nystrom weights of the position-like components, high and low parts
     BB = np.array([float(b) for b in _bb])
     BB_LO = np.array([float(b - float(b)) for b in _bb])
+#: the stages' positions in Nystrom form, ``x_i = x0 + c_i h v0 + h^2 sum_j (A^2)_ij a_j``: the
+#: same stages, without the cancellation in ``h sum_j a_ij v_j`` (rows of ``|A|`` sum to 96)
+with mpmath.workdps(40):
+    AA = np.array([[float(sum(mpmath.mpf(A[i, l]) * mpmath.mpf(A[l, j]) for l in range(NK)))
+                    for j in range(NK)] for i in range(NK)])
 #: the component that is the rate of each component (x' = v, J1' = J2), -1 where none is
 RATE_OF = np.array([1, -1, 4, 5, -1, -1])
 #: 1/n! with alternating signs: cos d - 1 = d^2 (C2 + d^2 (C4 + ...)), sin d = d + d^3 (S3 + ...)
@@ -149,12 +156,16 @@ def step(cst, s, h, wk, n, dense):
         dx = 0.0
         for m in range(n):
             acc = 0.0
+            if m == 0:                                # x_i - x0 in Nystrom form
+                for j in range(i):
+                    acc += AA[i, j] * wk[K + 6 * j + 1]
+                dx = C[i] * h * (wk[Y0 + 1] + wk[L0 + 1]) + h * h * acc
+                wk[YS] = wk[Y0] + (wk[L0] + dx)
+                continue
             for j in range(i):
                 if A[i, j] != 0.0:
                     acc += A[i, j] * wk[K + 6 * j + m]
             wk[YS + m] = wk[Y0 + m] + (wk[L0 + m] + h * acc)
-            if m == 0:
-                dx = h * acc                          # x_i - x0
         rhs(cst, s, w * (C[i] * h), k * dx, wk, YS, i, n)
     if not dense:
         _end(h, wk, n)

@@ -68,7 +68,7 @@ OK, EVENT_BUDGET, LOOP_BOUND, NON_FINITE = batch.OK, batch.EVENT_BUDGET, batch.L
 F, FF, DAMP, K, W, E, L, R, T, T_LO, K_LO, W_LO, F_LO, FF_LO, DAMP_LO, E_LO, L_LO, R_LO = range(18)
 SIZE = 18
 #: the flight's constants and their low parts, in ``fast.compensated.constants``' order
-DD_SLOTS = (F, F_LO, FF, FF_LO, DAMP, DAMP_LO, K, K_LO, W, W_LO)
+DD_SLOTS = (F, F_LO, FF, FF_LO, DAMP, DAMP_LO, K, K_LO, W, W_LO, E, E_LO, L, L_LO, R, R_LO)
 #: modes of the loop, and the event codes of a flight
 FLIGHT, STICK, CONTACT = 0, 1, 2
 NO_EVENT, WALL, VZERO = 0, 1, 2
@@ -103,7 +103,7 @@ def params(scene):
     return P
 
 
-#: The most fixed steps a period may need at rest, ``S max(w, sqrt(F k), c)/w``
+#: The most fixed steps a period may need at rest, ``S max(w, sqrt(F k), c, sqrt((F + f)/X))/w``
 #: (``_step_len``): a step must stay far above float64's resolution of times in ``[0, T]``
 #: (``eps T``, 2^-52 T; a step below it is skipped as "below resolution"), and 2^30 steps are
 #: already over six times the default event budget (1e7 events of 16 steps).
@@ -120,12 +120,13 @@ def _quantities(scene):
     Fm, fm, cd, wm = (scene.mpf(k) for k in ("F", "f", "damping", "omega"))
     km = scene.mpf("wavenumber") or mpmath.mpf(0)
     xmax = max(abs(scene.mpf("l")), abs(scene.mpf("r")))
-    steps = STEPS_PER_PERIOD * max(wm, mpmath.sqrt(Fm * km), cd) / wm
+    reach = mpmath.sqrt((Fm + fm) / max(1, xmax))
+    steps = STEPS_PER_PERIOD * max(wm, mpmath.sqrt(Fm * km), cd, reach) / wm
     out = [("wavenumber", km, ("wavenumber",), *size),
            ("wavenumber max(|l|, |r|)", km * xmax, ("wavenumber", "l", "r"), None, FAST_MAX),
            ("F wavenumber", Fm * km, ("F", "wavenumber"), *size),
-           ("steps per period", steps, ("F", "wavenumber", "damping", "omega"), None,
-            MAX_STEPS_PER_PERIOD, "fast.ode's fixed steps would fall toward the float64 "
+           ("steps per period", steps, ("F", "f", "wavenumber", "damping", "omega", "l", "r"),
+            None, MAX_STEPS_PER_PERIOD, "fast.ode's fixed steps would fall toward the float64 "
             "resolution of times in a period (fast.ode.MAX_STEPS_PER_PERIOD)")]
     if cd > 0:
         out.append(("(F + f)/damping", (Fm + fm) / cd, ("F", "f", "damping"), *size))
@@ -148,9 +149,14 @@ def _g(P, s, wall, t, x, v, which):
 
 @kernel(inline=True)
 def _step_len(P, av):
-    """``h = 2 pi / (S Lambda)``, ``Lambda = max(w, k |v|, sqrt(F k), c)``: the fastest of the
-    forcing, the phase rate of ``cos(k x)``, the linearised ``x'' = F cos(k x)``, damping."""
-    lam = max(max(P[W], P[K] * av), max(math.sqrt(P[F] * P[K]), P[DAMP]))
+    """``h = 2 pi / (S Lambda)``, ``Lambda = max(w, k |v|, sqrt(F k), c, sqrt((F + f) / X))``:
+    the fastest of the forcing, the phase rate of ``cos(k x)``, the linearised ``x'' = F cos(k
+    x)``, damping, and the forcing's reach against the scale ``X = max(1, |l|, |r|)`` of ``x``
+    (the position's truncation ``~ (h w)^7 h^2 (F + f)`` is measured relative to ``X``: with
+    ``F / w^2 >> X`` -- flights between walls far shorter than a period -- ``h w`` alone lost
+    up to 3 eps a period at ``S = 128``, issue 33)."""
+    reach = math.sqrt((P[F] + P[FF]) / max(max(1.0, abs(P[L])), abs(P[R])))
+    lam = max(max(P[W], P[K] * av), max(max(math.sqrt(P[F] * P[K]), P[DAMP]), reach))
     return 2 * math.pi / (STEPS_PER_PERIOD * lam)
 
 
@@ -240,7 +246,7 @@ def _fly(P, st, wk, t_end, n, max_steps):
     wall = P[R] if s > 0.0 else P[L]
     xs = max(1.0, abs(wall))
     no_v = P[F] == 0.0 and P[FF] == 0.0            # no force: v never changes sign
-    cs.begin(wk, st[q.TT], P[E], P[E_LO])
+    cs.begin(wk, st[q.TT], P, DD_SLOTS)
     for k in range(max_steps):
         t = st[q.TT]
         x, v = wk[dp.Y0], wk[dp.Y0 + 1]
