@@ -493,6 +493,27 @@ TOLERANCES.update({
             "(an axis box over a period) would not be caught by it, only by containment"),
 })
 
+# --- issue 33: fast under position forcing (tests/test_ode_accuracy.py) ----------------------
+TOLERANCES.update({
+    "fast_xpot_per_cond_mean": Tol(
+        rtol=1.0, atol=0.0,
+        why="issue 33: fast.ode's one-period error over its conditioning, max over x, v of "
+            "|fast - ref| / max(1, |ref|) / (eps max(1, max |Phi'_ij|)), eps = 2^-52 (the "
+            "measure of golden_fast_phi_per_cond), mean over a batch of states of one scene: "
+            "the float64 floor is the final rounding (half an ulp: up to 1 eps relative, "
+            "~0.3 on average) plus each event's rounding moved by the rest of the period; "
+            "the closed-form engine's golden inputs show mean <= 0.33, its k = 0 runs 0.2 - "
+            "1.2 on the issue's random scenes.  Measured (compensated flights, fast."
+            "compensated): 0.21 mean over 40 random scenes x 8 states (worst scene 0.43), "
+            "0.08 on fig:xpotno; the float64 flights before: 13 (worst scene 159)"),
+    "fast_xpot_per_cond_max": Tol(
+        rtol=4.0, atol=0.0,
+        why="issue 33: the same measure's max over a batch: a few roundings, each moved by "
+            "the conditioning of what follows it in the period (a stick or a contact zeroes "
+            "Phi' but not the flights after it).  Measured: 1.5 over 40 random scenes x 8 "
+            "states, 0.23 on fig:xpotno; before: 208"),
+})
+
 # --- issue 27: the per-core baseline (tests/benchmarks/test_bench_per_core.py) -------------
 TOLERANCES.update({
     "plain_kernel_vs_fast": Tol(
