@@ -50,7 +50,7 @@ _WHY = {EVENT_BUDGET: "more than max_events = {max_events} events",
                        "wall that does not sum to rest (a bounce shrinks by e sqrt((A - f)/(A + f)): with "
                        "restitution 1 and no friction it does not, and every bounce is an event); raise "
                        "max_events to follow them",
-        TOO_FAST: "a numerical flight's step 2 pi/(S k |v|) fell below float64's resolution of times: the "
+        TOO_FAST: "a numerical flight's step 2 pi/(S k |v|) fell below the resolution of its clock: the "
                   "speed grew beyond what fast's position-forcing flights hold (fast.ode.max_speed); the "
                   "reference runs such states"}
 

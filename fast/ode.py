@@ -4,9 +4,18 @@ The forcing ``F cos(k x) cos(w t)`` (the paper's last section, eq. ``xpot``: ``k
 has no closed-form flight; ``fast.api`` routes such scenes here (the only path to a
 numerical ODE solver).  A flight is integrated by fixed DOP853 steps (``fast.dop853``) of
 length ``h = 2 pi / (S Lambda)``, ``Lambda = max(w, k |v|, sqrt(F k), c)`` at the step start,
-the last one shortened to ``t_end``; ``S = STEPS_PER_PERIOD`` (measured against the
-certified Taylor flight of ``reference``: 64 steps give 1e-15 per period at the paper's
-parameters but 3e-13 on a long period; 96 sit at the rounding floor).
+the last one ending at ``t_end``; ``S = STEPS_PER_PERIOD``.  The steps are compensated
+(``fast.compensated``, issue 33): the state, the clock, the period, the parameters and the
+trigonometry of each step's start are double-doubles, each stage's acceleration carries its
+own rounding, and an event's state comes from a step onto it plus one Newton step of its
+time; so the one-period error is that of float64 rounding, not of its accumulation over the
+~100 steps of a period.  Measured against the reference at 40 digits as ``|fast - ref| /
+max(1, |ref|) / (eps max(1, |Phi'|))`` (``golden_fast_phi_per_cond``'s measure; eps =
+2^-52): with ``S = 96`` and float64 steps mean 13 / max 208 over 40 random position-forced
+scenes x 8 states (0.87 / 1.8 on ``fig:xpotno``); compensated, 0.21 / 1.5 (0.08 / 0.23), the
+closed-form loop's standard.  ``S``: the truncation reaches that floor at ``S = 128`` (``S =
+96``: mean 0.40, max 10 where the forcing's amplitude ``F / Lambda^2`` exceeds the gap; 160
+and 256 change nothing).
 
 Events (the first of them in a step): the wall ``g = s (W_s - x)`` and the velocity ``g = s v``,
 both positive before their event.  Root exclusion per step: with ``M >= |g''| h^2`` over the
@@ -36,8 +45,10 @@ import math
 import numpy as np
 
 from . import batch
+from . import compensated as cs
 from . import dop853 as dp
 from . import state as q
+from .dd import split_exact
 from .jit import data_pointer, kernel
 from .output import out_of_events, record, store
 from .params import FAST_MAX, FAST_MIN, check_ranges, check_scene, fast_quantities
@@ -47,13 +58,15 @@ SUBDIV = 8
 NEWTON_ITERS = 60
 GOLDEN_ITERS = 40
 TANGENT_FLOOR = 64 * EPS
-STEPS_PER_PERIOD = 96
+STEPS_PER_PERIOD = 128
 #: steps that count as one event against the budget
 STEPS_PER_EVENT = 16
 OK, LOOP_BOUND, NON_FINITE = batch.OK, batch.LOOP_BOUND, batch.NON_FINITE
 #: slots of P
-F, FF, DAMP, K, W, E, L, R, T, T_LO = range(10)
-SIZE = 10
+F, FF, DAMP, K, W, E, L, R, T, T_LO, K_LO, W_LO, F_LO, FF_LO, DAMP_LO, E_LO, L_LO, R_LO = range(18)
+SIZE = 18
+#: the flight's constants and their low parts, in ``fast.compensated.constants``' order
+DD_SLOTS = (F, F_LO, FF, FF_LO, DAMP, DAMP_LO, K, K_LO, W, W_LO, E, E_LO, L, L_LO, R, R_LO)
 #: modes of the loop, and the event codes of a flight
 FLIGHT, STICK, CONTACT = 0, 1, 2
 NO_EVENT, WALL, VZERO, TOO_FAST = 0, 1, 2, -2
@@ -69,9 +82,9 @@ p = _Slots
 
 
 def params(scene):
-    """``P``: ``F, f, c, k, w, e, l, r`` as float64 and the period ``T = 2 pi / w`` as a
-    double-double (``T + T_lo``, read at 40 digits), after the range check of
-    ``fast.params.check_ranges`` (``ValueError`` naming what float64 cannot hold)."""
+    """``P``: ``F, f, c, k, w, e, l, r`` and the period ``T = 2 pi / w`` as double-doubles (``F + F_LO``, ..., read at 40 digits: ``fast.compensated``), after the
+    range check of ``fast.params.check_ranges`` (``ValueError`` naming what float64 cannot
+    hold)."""
     import mpmath
 
     check_scene(scene)
@@ -79,17 +92,16 @@ def params(scene):
         check_ranges(scene, fast_quantities(scene, _quantities(scene)))
         period = 2 * mpmath.pi / scene.mpf("omega")
     P = np.zeros(SIZE)
-    k = scene.float("wavenumber")
-    P[F], P[FF], P[DAMP] = scene.float("F"), scene.float("f"), scene.float("damping")
-    P[K], P[W], P[E] = 0.0 if k is None else k, scene.float("omega"), scene.float("restitution")
-    P[L], P[R] = scene.float("l"), scene.float("r")
     with mpmath.workdps(40):
-        P[T] = float(period)
-        P[T_LO] = float(period - P[T])
+        P[T], P[T_LO] = split_exact(period)
+        for slot, lo, name in ((F, F_LO, "F"), (FF, FF_LO, "f"), (DAMP, DAMP_LO, "damping"),
+                               (K, K_LO, "wavenumber"), (W, W_LO, "omega"), (E, E_LO, "restitution"),
+                               (L, L_LO, "l"), (R, R_LO, "r")):
+            P[slot], P[lo] = split_exact(scene.mpf(name) or mpmath.mpf(0))
     return P
 
 
-#: The most fixed steps a period may need at rest, ``S max(w, sqrt(F k), c)/w``
+#: The most fixed steps a period may need at rest, ``S max(w, sqrt(F k), c, sqrt((F + f)/X))/w``
 #: (``_step_len``): a step must stay far above float64's resolution of times in ``[0, T]``
 #: (``eps T``, 2^-52 T; a step below it is skipped as "below resolution"), and 2^30 steps are
 #: already over six times the default event budget (1e7 events of 16 steps).
@@ -114,12 +126,13 @@ def _quantities(scene):
     Fm, fm, cd, wm = (scene.mpf(k) for k in ("F", "f", "damping", "omega"))
     km = scene.mpf("wavenumber") or mpmath.mpf(0)
     xmax = max(abs(scene.mpf("l")), abs(scene.mpf("r")))
-    steps = STEPS_PER_PERIOD * max(wm, mpmath.sqrt(Fm * km), cd) / wm
+    reach = mpmath.sqrt((Fm + fm) / max(1, xmax))
+    steps = STEPS_PER_PERIOD * max(wm, mpmath.sqrt(Fm * km), cd, reach) / wm
     out = [("wavenumber", km, ("wavenumber",), *size),
            ("wavenumber max(|l|, |r|)", km * xmax, ("wavenumber", "l", "r"), None, FAST_MAX),
            ("F wavenumber", Fm * km, ("F", "wavenumber"), *size),
-           ("steps per period", steps, ("F", "wavenumber", "damping", "omega"), None,
-            MAX_STEPS_PER_PERIOD, "fast.ode's fixed steps would fall toward the float64 "
+           ("steps per period", steps, ("F", "f", "wavenumber", "damping", "omega", "l", "r"),
+            None, MAX_STEPS_PER_PERIOD, "fast.ode's fixed steps would fall toward the float64 "
             "resolution of times in a period (fast.ode.MAX_STEPS_PER_PERIOD)")]
     if cd > 0:
         out.append(("(F + f)/damping", (Fm + fm) / cd, ("F", "f", "damping"), *size))
@@ -142,9 +155,14 @@ def _g(P, s, wall, t, x, v, which):
 
 @kernel(inline=True)
 def _step_len(P, av):
-    """``h = 2 pi / (S Lambda)``, ``Lambda = max(w, k |v|, sqrt(F k), c)``: the fastest of the
-    forcing, the phase rate of ``cos(k x)``, the linearised ``x'' = F cos(k x)``, damping."""
-    lam = max(max(P[W], P[K] * av), max(math.sqrt(P[F] * P[K]), P[DAMP]))
+    """``h = 2 pi / (S Lambda)``, ``Lambda = max(w, k |v|, sqrt(F k), c, sqrt((F + f) / X))``:
+    the fastest of the forcing, the phase rate of ``cos(k x)``, the linearised ``x'' = F cos(k
+    x)``, damping, and the forcing's reach against the scale ``X = max(1, |l|, |r|)`` of ``x``
+    (the position's truncation ``~ (h w)^7 h^2 (F + f)`` is measured relative to ``X``: with
+    ``F / w^2 >> X`` -- flights between walls far shorter than a period -- ``h w`` alone lost
+    up to 3 eps a period at ``S = 128``, issue 33)."""
+    reach = math.sqrt((P[F] + P[FF]) / max(max(1.0, abs(P[L])), abs(P[R])))
+    lam = max(max(P[W], P[K] * av), max(max(math.sqrt(P[F] * P[K]), P[DAMP]), reach))
     return 2 * math.pi / (STEPS_PER_PERIOD * lam)
 
 
@@ -230,28 +248,30 @@ def _fly(P, st, wk, t_end, n, max_steps):
     or ``t_end``: returns ``(code, steps)`` with the time reached in ``st[TT]`` and the state
     there in ``wk[Y0]`` (``x = W`` at a wall event, ``v = 0`` at a velocity zero); code
     ``-1``: ``max_steps`` exhausted; ``TOO_FAST``: the step ``2 pi/(S k |v|)`` fell below
-    float64's resolution of times up to ``t_end`` (it was taken as the end of the flight, and
-    the state came back unchanged: ``|v| = 1e50`` under ``k = 1``)."""
+    the resolution of the double-double clock at ``t_end`` (``4 eps^2 |t_end|``: no step would
+    move it; with a float64 clock such a step was taken as the end of the flight and the
+    state came back unchanged, ``|v| = 1e50`` under ``k = 1``)."""
     s = st[q.S]
     wall = P[R] if s > 0.0 else P[L]
     xs = max(1.0, abs(wall))
     no_v = P[F] == 0.0 and P[FF] == 0.0            # no force: v never changes sign
+    cs.begin(wk, st[q.TT], P, DD_SLOTS)
     for k in range(max_steps):
         t = st[q.TT]
         x, v = wk[dp.Y0], wk[dp.Y0 + 1]
         step = _step_len(P, abs(v))
-        h = min(step, t_end - t)
-        if not h > 4 * EPS * abs(t_end):
-            if not step > 4 * EPS * abs(t_end):         # too fast to step through in float64
-                return TOO_FAST, k
-            st[q.TT] = t_end                            # what is left is below resolution
+        if not step > 4 * EPS * EPS * abs(t_end):       # below the double-double clock's resolution
+            return TOO_FAST, k
+        h, last = cs.length(step, t, t_end, wk)
+        if not h > 0.0:                                 # nothing is left (the clock is exact)
+            st[q.TT] = t_end
             return NO_EVENT, k
         gw, dgw = _g(P, s, wall, t, x, v, 0)
         gv, dgv = _g(P, s, wall, t, x, v, 1)
         mx, mv = _bounds(P, abs(v), h)
         safe = (gw >= 0.0 and gw + dgw * h - mx * h * h / 2 > 0.0) and (no_v or (
             gv >= 0.0 and gv + dgv * h - mv * h * h / 2 > 0.0))
-        dp.step(P[F], P[FF], P[DAMP], P[K], P[W], s, t, h, wk, n, not safe)
+        cs.step(P, DD_SLOTS, s, t, h, wk, n, not safe)
         th, thw, thv = math.inf, math.inf, math.inf
         if not safe:
             thw = _first_root(P, s, wall, t, h, wk, n, 0, mx * h * h, gw, dgw * h, TANGENT_FLOOR * xs)
@@ -260,19 +280,12 @@ def _fly(P, st, wk, t_end, n, max_steps):
                                   TANGENT_FLOOR * max(1.0, abs(v)))
             th = min(thw, thv)
         if th < math.inf:
-            dp.dense_eval(wk, th, n)
-            for m in range(n):
-                wk[dp.Y0 + m] = wk[dp.YD + m]
-            st[q.TT] = t + th * h
-            if thw <= thv:
-                wk[dp.Y0] = wall
-                return WALL, k + 1
-            wk[dp.Y0 + 1] = 0.0
-            return VZERO, k + 1
-        for m in range(n):
-            wk[dp.Y0 + m] = wk[dp.Y1 + m]
-        st[q.TT] = t_end if h >= t_end - t else t + h
-        if h >= t_end - t:
+            cs.step(P, DD_SLOTS, s, t, th * h, wk, n, True)       # the event's state: a step
+            wall_lo = P[R_LO] if s > 0.0 else P[L_LO]
+            st[q.TT] = cs.event(wk, t, th * h, h, n, wall, wall_lo, thw <= thv)
+            return (WALL if thw <= thv else VZERO), k + 1
+        st[q.TT] = cs.advance(wk, t, h, last, t_end, n)
+        if last:
             return NO_EVENT, k + 1
     return -1, max_steps
 
@@ -499,13 +512,14 @@ def run_state(P, x, v, t_end, jac, max_events, st, wk, ev):
 def run_range(P, x, v, t_end, t_end_lo, jac, max_events, out_x, out_v, out_zv, out_J,
               out_nev, out_status, out_paths, log_kind, log_t, log_x, log_v, log_vb, log_cnt,
               i0, i1):
-    """``fast.batch``'s engine entry: states ``i0 <= i < i1`` (the fixed steps run to the
-    float ``t_end``: ``t_end_lo``, under 1e-15 T, is below their error)."""
+    """``fast.batch``'s engine entry: states ``i0 <= i < i1`` (to ``t_end + t_end_lo``, the
+    compensated clock's end: ``fast.compensated``)."""
     cap = log_kind.shape[1]
-    st_own, wk_own, ev_own = np.zeros(q.SIZE), np.zeros(dp.SIZE), np.zeros(6 * cap + 1)
+    st_own, wk_own, ev_own = np.zeros(q.SIZE), np.zeros(cs.SIZE), np.zeros(6 * cap + 1)
     st_own[q.CAP] = cap
     Pp, st, wk, ev = data_pointer(P), data_pointer(st_own), data_pointer(wk_own), data_pointer(ev_own)
     for i in range(i0, i1):
+        cs.reset(wk, t_end_lo)
         status = run_state(Pp, x[i], v[i], t_end, jac, max_events, st, wk, ev)
         store(i, status, OK, NON_FINITE, st, ev, jac, out_x, out_v, out_zv, out_J, out_nev, out_status,
               out_paths, log_kind, log_t, log_x, log_v, log_vb, log_cnt)
@@ -514,10 +528,11 @@ def run_range(P, x, v, t_end, t_end_lo, jac, max_events, out_x, out_v, out_zv, o
 
 @kernel
 def _flights(P, t0, x0, v0, s, t_end, jac, out_t, out_x, out_v, out_ev, out_J):
-    st_own, wk_own = np.zeros(q.SIZE), np.zeros(dp.SIZE)
+    st_own, wk_own = np.zeros(q.SIZE), np.zeros(cs.SIZE)
     Pp, st, wk = data_pointer(P), data_pointer(st_own), data_pointer(wk_own)
     n = 6 if jac else 2
     for i in range(t0.size):
+        cs.reset(wk, 0.0)
         st[q.TT], st[q.S] = t0[i], s[i]
         wk[dp.Y0], wk[dp.Y0 + 1] = x0[i], v0[i]
         wk[dp.Y0 + 2], wk[dp.Y0 + 3], wk[dp.Y0 + 4], wk[dp.Y0 + 5] = 1.0, 0.0, 0.0, 1.0

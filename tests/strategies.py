@@ -79,6 +79,25 @@ def xpot_scenes(draw, damping=True):
 
 
 @st.composite
+def position_forced_scenes(draw):
+    """Issue 33: position forcing with every effect drawn -- ``F`` in [0.3, 3], ``f = rho F``
+    with ``rho`` in [0, 0.6], ``omega`` in [0.5, 7], ``l`` in [-2, 1], a gap of 0.2 .. 4, the
+    wavenumber with ``k max(|l|, |r|, 1/2)`` in [0.1, 4], damping 0 or 0.01 .. 0.4,
+    restitution 1, 0.9, 0.6 or 0 (exact decimal strings)."""
+    F = draw(decimals(0.3, 3.0, 3))
+    f = f"{draw(decimals(0.0, 0.6, 3))}*{F}"
+    omega = draw(decimals(0.5, 7.0, 3))
+    l, gap = draw(decimals(-2.0, 1.0, 2)), draw(decimals(0.2, 4.0, 2))
+    r = f"{(round(float(l) * 100) + round(float(gap) * 100)) / 100:.2f}"
+    xmax = max(abs(float(l)), abs(float(r)), 0.5)
+    k = f"{draw(decimals(0.1, 4.0, 3))}/{xmax:.2f}"
+    c = draw(st.sampled_from(("0", "drawn")))
+    c = draw(decimals(0.01, 0.4, 3)) if c == "drawn" else c
+    e = draw(st.sampled_from(("1", "0.9", "0.6", "0")))
+    return Scene(F=F, f=f, omega=omega, l=l, r=r, wavenumber=k, damping=c, restitution=e)
+
+
+@st.composite
 def flight_starts(draw, scene: Scene, vmax: float = 4.0):
     """``(t0, x0, v0, s)`` starting a flight: ``x0`` in the gap, ``s = sgn(v0)`` (either sign
     at ``v0 = 0``), ``t0`` in ``[0, T)``; floats (exact binary values at any precision)."""

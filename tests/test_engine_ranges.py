@@ -53,14 +53,15 @@ def test_a_speed_above_v_max_is_refused_by_name_and_v_max_itself_only_costs_even
 
 
 def test_a_numerical_flight_too_fast_for_float64_time_raises_instead_of_standing_still():
-    """At ``|v| = 1e50`` under ``k = 1`` the step ``2 pi/(S k |v|)`` is far below float64's
-    resolution of ``t``: the flight was taken as finished and the start came back unchanged
-    after a period (a silent wrong answer).  A start so fast is refused (``max_speed``); a
+    """At ``|v| = 1e50`` under ``k = 1`` the step ``2 pi/(S k |v|)`` is far below the
+    resolution of ``t``: with a float64 clock the flight was taken as finished and the start
+    came back unchanged after a period (a silent wrong answer); the double-double clock does
+    not resolve it either.  A start so fast is refused (``max_speed``); a
     motion that reaches such speeds raises ``TOO_FAST`` with the state (the kernel, driven
     directly past the API's check)."""
     sc = _scene(f="0.1", wavenumber=1)
     engine, P = fast.api._engine(sc)
-    with pytest.raises(RuntimeError, match=r"fell below float64's resolution of times"):
+    with pytest.raises(RuntimeError, match=r"fell below the resolution of its clock"):
         fast.batch.run(engine, P, np.array([0.5]), np.array([1e50]), P[ode.T], max_events=1000)
 
 
