@@ -243,3 +243,22 @@ def log_perturbations(draw):
     where = draw(st.floats(0.0, 1.0, exclude_max=True))
     size = draw(st.sampled_from((1, -1))) * 10.0 ** draw(st.integers(-12, -2))
     return op, where, size
+
+
+# --- position forcing over every parameter (tests/test_construct_position.py, issue 33) ------
+@st.composite
+def position_scenes(draw):
+    """Scenes with position forcing ``F cos(k x) cos(w t)`` and every other effect drawn: ``F``
+    in ``[0.5, 2]``, ``f`` up to ``0.4 F``, ``omega`` in ``[0.5, 2 pi]``, ``l`` in ``[-1, 0]``, a
+    gap of ``0.5 .. 3``, ``k`` with ``k R`` in ``[0.2, 3]``, damping ``0`` or up to ``0.3``,
+    restitution ``1`` or down to ``0.5`` (decimal strings: exact for both integrators)."""
+    F = draw(decimals(0.5, 2.0, 2))
+    f = f"{float(F) * float(draw(decimals(0.0, 0.4, 2))):.4f}"
+    omega = draw(st.one_of(decimals(0.5, 6.2, 2), st.just("2*pi")))
+    l = draw(decimals(-1.0, 0.0, 2))
+    R = draw(decimals(0.5, 3.0, 2))
+    k = f"{float(draw(decimals(0.2, 3.0, 2))) / float(R):.4f}"
+    c = draw(st.one_of(st.just("0"), decimals(0.0, 0.3, 3)))
+    e = draw(st.one_of(st.just("1"), decimals(0.5, 1.0, 2)))
+    return Scene(F=F, f=f, omega=omega, l=l, r=f"{float(l) + float(R):.2f}", wavenumber=k, damping=c,
+                 restitution=e)
