@@ -69,7 +69,7 @@ class HardCase:
     how: str
 
 
-def decimal_text(value) -> str:
-    """``value`` (mpf) as a decimal string of ``STATE_DIGITS`` significant digits (``"0"`` for 0)."""
-    return mpmath.nstr(value, STATE_DIGITS, strip_zeros=False, min_fixed=-mpmath.inf, max_fixed=mpmath.inf) \
+def decimal_text(value, digits: int = STATE_DIGITS) -> str:
+    """``value`` (mpf) as a decimal string of ``digits`` significant digits (``"0"`` for 0)."""
+    return mpmath.nstr(value, digits, strip_zeros=False, min_fixed=-mpmath.inf, max_fixed=mpmath.inf) \
         if value != 0 else "0"

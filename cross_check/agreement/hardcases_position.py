@@ -28,7 +28,7 @@ backward flight and grid certificate: cheap, and it only orders and drops candid
 1. the reference's Taylor flight (``reference.taylor.TaylorFlight``) runs the *reversed* motion
    ``y(tau) = x(-tau)``, ``y'' = F cos(k y) cos(w tau) - s f + c y'`` (``y' = -v``: damping turns
    into ``-c``; ``_Reversed`` hands the scene to it so) from ``tau = -t*`` to ``0`` at
-   ``CONSTRUCT_DPS`` digits: the start, rounded to ``STATE_DIGITS`` digits, is the case;
+   ``CONSTRUCT_DPS`` digits: the start, rounded to ``STATE_DIGITS`` (30) digits, is the case;
 2. the certificate: a validated flight (``reference.enclosure.lohner.ValidatedFlight``: Taylor
    series in Arb balls, a Picard box, a Lohner QR frame; independent code) of the same reversed
    motion from the exact event state (binary ``mpf`` values: exact balls), at ``CERT_PREC``
@@ -68,6 +68,13 @@ CERT_PREC = 256
 MAX_TRIES = 6
 #: the Taylor flight's start must lie within this many units of its last digit of the enclosure
 START_SLACK_DIGITS = 10
+#: significant digits of the cases' decimal states (``hardcases``: 40).  The golden data proves
+#: every input (``reference.enclosure.enclose_map``), whose point log under position forcing
+#: carries at most 40 digits (``maps.POINT_DPS_TAYLOR``): a start rounded to 40 digits leaves a
+#: turn at the wall or an impact at ``T`` within ~1e-40 of its tangency, which that log cannot
+#: place on either side (measured: both exact inputs unproved at every precision up to 1280 bits);
+#: at 30 digits it can, and the cases stay 14 digits below what float64 resolves
+STATE_DIGITS = 30
 
 
 class _Reversed:
@@ -178,7 +185,8 @@ def build(scene, name, candidates, kind, how):
             why = str(exc)
             continue
         radius = max(float(cert.x0.rad()), float(cert.v0.rad()))
-        return HardCase(name, decimal_text(x0), decimal_text(v0), decimal_text(t_star), kind,
+        return HardCase(name, decimal_text(x0, STATE_DIGITS), decimal_text(v0, STATE_DIGITS),
+                        decimal_text(t_star, STATE_DIGITS), kind,
                         f"{how}; backward from t*={mpmath.nstr(t_star, 12)} (a single flight); certified: "
                         f"no wall and no v = 0 on [0, t*) (validated Taylor flight backward, {cert.pieces} "
                         f"pieces, {cert.prec} bits; start enclosed to {radius:.0e})"), None
@@ -281,7 +289,7 @@ def _rest_kinds(scene, built, notes, T):
         return
     _, lo, hi = max(rests)
     x = (lo + hi) / 2
-    built["at_rest"] = HardCase("at_rest", decimal_text(x), "0", "0", "stick",
+    built["at_rest"] = HardCase("at_rest", decimal_text(x, STATE_DIGITS), "0", "0", "stick",
                                 f"explicit: v0 = 0 at x = {mpmath.nstr(x, 8)}, the middle of the rest interval "
                                 f"[{mpmath.nstr(lo, 8)}, {mpmath.nstr(hi, 8)}] where |F cos(k x)| <= f: it never moves")
     grid = [T * j / 64 for j in range(3, 62)]

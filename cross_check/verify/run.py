@@ -112,7 +112,7 @@ def compute(records, depth, *, scheduler=None, workers=2, progress=None, client=
             doc = run.value(name, "golden file")
             for adapter in ADAPTERS:
                 run.submit(name, f"scorecard {adapter}", tasks.scorecard, rec, doc, adapter, depth)
-            run.submit(name, "agreement", tasks.agreement, rec, depth)
+            run.submit(name, "agreement", tasks.agreement, rec, doc, depth)
             for k in depth.periods:
                 run.submit(name, f"orbits {k}", tasks.orbits, rec, k, depth)
             run.submit(name, "portrait", tasks.portrait, rec,
