@@ -82,6 +82,7 @@ import math
 from operator import mul
 
 import mpmath
+from mpmath.libmp import from_int, mpf_add, mpf_mul, mpf_shift
 
 #: bits carried beyond the working precision in the recurrences and the dense output
 GUARD_BITS = 32
@@ -209,11 +210,13 @@ def _variational_fixed(prm, S, Pn, N, h, P):
 
 
 def _unscale(Z, P, hinv, scale):
-    """``[Z_n 2^-P scale hinv^n]``: fixed-point scaled coefficients back to mpf."""
-    out = []
+    """``[Z_n 2^-P scale hinv^n]``: fixed-point scaled coefficients back to mpf (``ldexp(z, -P)``
+    is exact, then one rounded product, and ``scale *= hinv``, as on mpf; on the raw values)."""
+    prec, rnd = mpmath.mp._prec_rounding
+    h, s, out = mpmath.mpf(hinv)._mpf_, mpmath.mpf(scale)._mpf_, []
     for z in Z:
-        out.append(mpmath.ldexp(z, -P) * scale)
-        scale *= hinv
+        out.append(mpmath.mp.make_mpf(mpf_mul(mpf_shift(from_int(z), -P), s, prec, rnd)))
+        s = mpf_mul(s, h, prec, rnd)
     return out
 
 
@@ -267,10 +270,16 @@ def choose_step(fl, v0abs, N, bits, variational=True):
 
 
 def _horner(coeffs, tau):
-    acc = coeffs[-1]
+    """``sum coeffs[n] tau^n`` by Horner's rule at the current precision: the very roundings of
+    ``acc * tau + a`` on mpf (``mpf_mul``, ``mpf_add`` with the context's precision and
+    rounding), on the raw values (issue 33: the event search evaluates the step polynomial
+    thousands of times a period, and the mpf operators' dispatch was half of it)."""
+    tau = mpmath.mpf(tau)
+    prec, rnd = mpmath.mp._prec_rounding
+    t, acc = tau._mpf_, coeffs[-1]._mpf_
     for a in reversed(coeffs[:-1]):
-        acc = acc * tau + a
-    return acc
+        acc = mpf_add(mpf_mul(acc, t, prec, rnd), a._mpf_, prec, rnd)
+    return mpmath.mp.make_mpf(acc)
 
 
 def _deriv(coeffs):

@@ -16,7 +16,8 @@ strings, PNG bytes): the client writes every file, so a remote cluster needs no 
   (``dynamics.periodic``), each classified, and proved by Krawczyk (``paper.claims.base.prove``:
   ``reference.enclosure.prove_periodic``; a segment of no-impact fixed points by ``prove_segment``);
 * ``portrait``  -- the PNG (``verify.portrait``);
-* ``scorecard`` -- an adapter scored on the scene's own golden data (``score.card``).
+* ``scorecard`` -- an adapter scored on the scene's own golden data (``score.card``); ``scorecards``
+  scores every adapter in one task.
 """
 from __future__ import annotations
 
@@ -214,6 +215,20 @@ def portrait(rec: dict, orbit_parts: list, depth: Depth) -> bytes:
 
     sc = scenes.scene(scene_of(rec))
     return draw.png(sc, [row for part in orbit_parts for row in part], depth, velocity_range(sc))
+
+
+def scorecards(rec: dict, golden_file: dict, adapters: tuple, depth: Depth) -> dict:
+    """``{adapter: (scorecard, CPU seconds)}``: ``scorecard`` for each adapter in turn, in one
+    process, so that the reference's ten-period truths (``score.card._ten_periods``: the same
+    states for every adapter, half of a scorecard's cost under position forcing) are computed
+    once (``compare.ref_map`` keeps its recent results)."""
+    import time
+
+    out = {}
+    for adapter in adapters:
+        t0 = time.process_time()
+        out[adapter] = (scorecard(rec, golden_file, adapter, depth), time.process_time() - t0)
+    return out
 
 
 def scorecard(rec: dict, golden_file: dict, adapter: str, depth: Depth) -> dict:
