@@ -196,9 +196,8 @@ def _main_fixed(prm, t0, x0, v0, s, N, h, P):
 def _variational_fixed(prm, S, Pn, N, h, P):
     """The variational columns of ``series_fixed`` from the step's ``S~``, ``P~``."""
     F, f, c, k, w = prm
-    one, ch, hinv = 1 << P, _fix(c * h, P), 1 / h
-    Bh2 = [(-_fix(F * k * h * h, P) * (sum(map(mul, S[:n + 1], reversed(Pn[:n + 1]))) >> P)) >> P
-           for n in range(N)]
+    one, ch, hinv, Fkh2 = 1 << P, _fix(c * h, P), 1 / h, -_fix(F * k * h * h, P)
+    Bh2 = [(Fkh2 * (sum(map(mul, S[:n + 1], reversed(Pn[:n + 1]))) >> P)) >> P for n in range(N)]
     cols = []
     for DX, DV in (([one], [0]), ([0], [_fix(h, P)])):
         for n in range(N):

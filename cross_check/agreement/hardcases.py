@@ -301,10 +301,10 @@ def _friction_cases(scene, built, notes):
 
 #: chatter starts tried: ``(h, u) = (10^-3 100^-k, 10^-2 10^-k)``, ``k < _CHATTER_TRIES``
 _CHATTER_TRIES = 5
-#: under position forcing from ``k = 2``: every bounce the reference simulates at the golden
+#: under position forcing from ``k = 3``: every bounce the reference simulates at the golden
 #: data's 90 and 110 digits is a Taylor flight with its own event search, and a start nearer the
-#: accumulation has fewer of them (issue 33, scene A: 48 events instead of 62, 2.9 CPU s less)
-_FIRST_TRY_POSITION = 2
+#: accumulation has fewer of them (issue 33, scene A: 42 events instead of 62 from k = 0)
+_FIRST_TRY_POSITION = 3
 #: bounces shrinking slower than this cost the reference thousands of bounces at the golden
 #: data's 90 and 110 digits (rho = 0.99: about a minute per input): no chatter case then
 RHO_MAX = mpmath.mpf("0.92")

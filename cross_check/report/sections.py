@@ -102,12 +102,13 @@ def _scipy_on(sc, x, v, ref_kinds, r_phi):
         return f"failed: {exc}"[:40], math.nan
 
 
-def hard_case_rows(name: str, reference=None) -> list[dict]:
-    """Both integrators (and scipy) on the hard cases of a scene; ``reference``
-    (``golden_reference``) gives the reference's answers where it has them."""
+def hard_case_rows(name: str, reference=None, cases=None) -> list[dict]:
+    """Both integrators (and scipy) on the hard cases of a scene (``cases``, default
+    ``scenes.hard_states``); ``reference`` (``golden_reference``) gives the reference's answers
+    where it has them."""
     reference = reference or {}
     sc = scenes.scene(name)
-    cases = scenes.hard_states(name)
+    cases = scenes.hard_states(name) if cases is None else cases
     X, V = _batch(cases)
     phis, _ = compare.fast_safe(compare.fast_map, sc, X, V)
     f_evs, _ = compare.fast_safe(compare.fast_events, sc, X, V)

@@ -111,7 +111,7 @@ def compute(records, depth, *, scheduler=None, workers=2, progress=None, client=
             run.submit(name, "golden file", tasks.golden_document, rec, parts, depth)
             doc = run.value(name, "golden file")
             run.submit(name, "scorecards", tasks.scorecards, rec, doc, ADAPTERS, depth)
-            run.submit(name, "agreement", tasks.agreement, rec, doc, depth)
+            run.submit(name, "agreement", tasks.agreement, rec, doc, got[0]["cases"], depth)
             for k in depth.periods:
                 run.submit(name, f"orbits {k}", tasks.orbits, rec, k, depth)
             run.submit(name, "portrait", tasks.portrait, rec,
