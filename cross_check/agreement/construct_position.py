@@ -26,7 +26,9 @@ Kinds (``construct.KINDS``), with ``A(x, t) = F cos(k x) cos(w t)``:
   ``l`` for ``-1``), decelerating (``s x''(t*) < -0.02 (F + f)``), speeds and margins as in
   ``construct``;
 * ``turn``: ``v = 0`` mid-gap with ``s A(x*, t*) = -f (1 + delta)`` (needs ``|F cos k x*| >=
-  f (1 + delta)``); ``stick``: ``|A(x*, t*)| = f (1 - delta)``;
+  f (1 + delta)``); ``stick``: ``|A(x*, t*)| = f (1 - delta)``, or where ``|F cos k x*|`` is
+  below that, any ``t*`` in ``(0.05 T, 0.95 T)`` (not the phase 0 of ``construct``, which puts
+  the stop at exactly ``t = T``, the end of the itinerary fast is asked for);
 * ``chatter``: a start just off a wall ``W`` the force pushes into at ``t = 0``
   (``P = side F cos(k W) > f``), bounces accumulating within a fifth of the push, the
   frozen-force estimate of ``construct`` with the push ``P`` and the restitution ``e``
@@ -108,6 +110,8 @@ def _velocity_candidates(scene, rng, n, kind):
     with np.errstate(divide="ignore"):
         cval = f * (1 + delta) / amp if kind == "turn" else np.minimum(f * (1 - delta) / amp, 1.0)
     t, sign_cos = base.phase_times(scene, np.nan_to_num(cval, nan=2.0, posinf=2.0), rng)
+    if kind == "stick":         # |F cos k x*| <= f (1 - delta): a stop at any time, but not at t = T
+        t = np.where(cval >= 1, rng.uniform(0.05, 0.95, n) * 2 * np.pi / w, t)
     keep = (cval <= 1) & (t > 0.02 * 2 * np.pi / w)
     A = F * np.cos(k * x) * np.cos(w * t)
     if kind == "stick":

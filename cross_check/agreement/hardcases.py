@@ -37,8 +37,12 @@ costs the reference thousands of bounces at the golden data's digits).  With ``F
 moving mid-gap (it stops for good).
 
 ``construct(scene)`` returns the cases and, for every kind the scene does not admit, the reason
-(frictionless: no sticking; ``F <= f``: no turn and no chatter; position forcing: no closed-form
-flight; a construction that found no unambiguous backward run: its last obstacle).
+(frictionless: no sticking; ``F <= f``: no turn and no chatter; a construction that found no
+unambiguous backward run: its last obstacle).  Under position forcing (``F cos(k x) cos(w t)``,
+``F > 0``) the flight has no closed form: every kind but chatter comes from
+``hardcases_position`` (the reference's Taylor flight run backward, each case a single flight
+certified by a validated one), chatter from ``_chatter_case`` at the wall the force pushes into at
+``t = 0`` (``_push``).
 """
 from __future__ import annotations
 
