@@ -261,6 +261,24 @@ def draw(scene, n, seed, kinds, build, admitted) -> Cases:
     return Cases.join(out)
 
 
+def first_events(scene, cases: Cases, run_ends=("chatter",), chunk: int = 50_000):
+    """fast's first event (kind, time) for each constructed start, and the time of the first
+    event of a kind in ``run_ends`` (the end of a chatter run; ``inf``: none): ``verify``'s input."""
+    import fast
+
+    names = np.array(list(fast.KINDS) + [""])
+    ends = [fast.KINDS.index(k) for k in run_ends]
+    kinds, times, stops = [], [], []
+    for i in range(0, len(cases), chunk):
+        log = fast.events(scene, cases.x[i:i + chunk], cases.v[i:i + chunk])
+        k = log.kind.reshape(-1, log.kind.shape[-1]) if log.kind.size else np.full((log.n.size, 1), -1)
+        t = log.t.reshape(k.shape) if log.t.size else np.full(k.shape, np.inf)
+        kinds.append(names[k[:, 0]])
+        times.append(np.where(k[:, 0] >= 0, t[:, 0], np.inf))
+        stops.append(np.where(np.isin(k, ends), t, np.inf).min(axis=1))
+    return np.concatenate(kinds), np.concatenate(times), np.concatenate(stops)
+
+
 def verify(cases: Cases, first_kind, first_t, chatter_t):
     """Check an integrator's events against the constructed ones.
 

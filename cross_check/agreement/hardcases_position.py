@@ -11,10 +11,11 @@ velocity ``v*`` just before, flight sign ``s`` -- and the flight through it is r
   ``grazing`` (``|v*| = 1e-6``), ``crossing_pair`` (``|v*| = |x''| 5e-14``), ``turn_at_wall``
   (``v* = 0``: a turn if ``s A < -f`` there, else contact); ``impact_at_T``: ``t* = T`` with
   ``|v*| = (F / w) 2^(-j/2)``, ``j = -4 .. 16``;
-* mid-gap (``x* = l + (r - l) i / 64``, from the middle outwards) with ``v* = 0``: ``stick_slip_boundary`` at ``s A(x*, t*) =
-  -f`` exactly, ``|A|`` growing after (a stick of zero length, then slip), else falling after
-  (then a stick) -- needs ``|F cos k x*| > f``; ``sticking`` at ``t* = T/4``
-  or ``3T/4`` (``A = 0``) where ``|F cos k x*| > f`` (the particle slips again later);
+* mid-gap (``x* = l + (r - l) i / 64``, from the middle out) with ``v* = 0``:
+  ``stick_slip_boundary`` at ``s A(x*, t*) = -f`` exactly, ``|A|`` growing after (a stick of zero
+  length, then slip), else falling after (then a stick) -- needs ``|F cos k x*| > f``;
+  ``sticking`` at ``t* = T/4`` or ``3T/4`` (``A = 0``) where ``|F cos k x*| > f`` (the particle
+  slips again later);
   ``stopping`` in the middle of the widest rest interval ``|F cos k x| <= f``
   (``reference.taylor.equilibrium_intervals``: there a stop is final); ``at_rest`` is explicit
   (``v0 = 0`` there).  Chatter is ``hardcases``' explicit start, at the wall the force pushes
@@ -253,7 +254,8 @@ def _friction_kinds(scene, built, notes):
     T = 2 * mpmath.pi / w
     moving = [x for x in _mids(scene) if abs(F * mpmath.cos(k * x)) > f]
     if f == 0:
-        notes["stick_slip_boundary"] = notes["sticking"] = "frictionless (f = 0): no sticking and no stick-slip boundary"
+        notes["stick_slip_boundary"] = notes["sticking"] = ("frictionless (f = 0): no sticking and no stick-slip "
+                                                            "boundary")
     elif not moving:
         notes["stick_slip_boundary"] = notes["sticking"] = (
             "|F cos(k x)| <= f at every mid-gap position tried: a stop there is final (at_rest and stopping "

@@ -189,7 +189,8 @@ def cpu_line(got) -> str:
         if not isinstance(value, Exception):
             key = what.split(" ")[0]
             spent[key] = spent.get(key, 0.0) + value[1]
-    return "CPU seconds by task: " + ", ".join(f"{k} {v:.1f}" for k, v in sorted(spent.items(), key=lambda kv: -kv[1])) + "."
+    ranked = sorted(spent.items(), key=lambda kv: -kv[1])
+    return "CPU seconds by task: " + ", ".join(f"{k} {v:.1f}" for k, v in ranked) + "."
 
 
 def scene_section(rec, got, failed, slug) -> list[str]:
