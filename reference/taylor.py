@@ -82,6 +82,7 @@ import math
 from operator import mul
 
 import mpmath
+from mpmath.libmp import from_int, mpf_add, mpf_mul, mpf_shift
 
 #: bits carried beyond the working precision in the recurrences and the dense output
 GUARD_BITS = 32
@@ -161,6 +162,15 @@ def series_fixed(prm, t0, x0, v0, s, N, h, P, variational=False):
     ``DV_n = dv_n h^(n+1)``, ``DX_{n+1} = DV_n/(n+1)``,
     ``DV_{n+1} = (h^2 (B~*DX)_n - c h DV_n)/(n+1)`` with ``B~ = -F k (S~*P~)``.
     """
+    X, S, Pn = _main_fixed(prm, t0, x0, v0, s, N, h, P)
+    out = _unscale(X, P, 1 / h, mpmath.mpf(1))
+    return out, (_variational_fixed(prm, S, Pn, N, h, P) if variational else None)
+
+
+def _main_fixed(prm, t0, x0, v0, s, N, h, P):
+    """``series_fixed``'s recurrence: the scaled ``X_n`` (ints) and the ``S~``, ``P~`` that the
+    variational columns reuse (``TaylorFlight`` keeps them per step: issue 33, a Jacobian used to
+    run this recurrence a second time per step, a quarter of a golden input's cost)."""
     F, f, c, k, w = prm
     one = 1 << P
     kf, Fh2, ch = _fix(k, P), _fix(F * h * h, P), _fix(c * h, P)
@@ -180,12 +190,14 @@ def series_fixed(prm, t0, x0, v0, s, N, h, P, variational=False):
         a_n = ((Fh2 * q) >> P) - ((ch * (n + 1) * X[n + 1]) >> P) - (sfh2 if n == 0 else 0)
         X[n + 2] = a_n // ((n + 1) * (n + 2))
         JU.append((kf * (n + 2) * X[n + 2]) >> P)
-    hinv = 1 / h
-    out = _unscale(X, P, hinv, mpmath.mpf(1))
-    if not variational:
-        return out, None
-    Bh2 = [(-_fix(F * k * h * h, P) * (sum(map(mul, S[:n + 1], reversed(Pn[:n + 1]))) >> P)) >> P
-           for n in range(N)]
+    return X, S, Pn
+
+
+def _variational_fixed(prm, S, Pn, N, h, P):
+    """The variational columns of ``series_fixed`` from the step's ``S~``, ``P~``."""
+    F, f, c, k, w = prm
+    one, ch, hinv, Fkh2 = 1 << P, _fix(c * h, P), 1 / h, -_fix(F * k * h * h, P)
+    Bh2 = [(Fkh2 * (sum(map(mul, S[:n + 1], reversed(Pn[:n + 1]))) >> P)) >> P for n in range(N)]
     cols = []
     for DX, DV in (([one], [0]), ([0], [_fix(h, P)])):
         for n in range(N):
@@ -193,15 +205,17 @@ def series_fixed(prm, t0, x0, v0, s, N, h, P, variational=False):
             DV.append(((sum(map(mul, Bh2[:n + 1], reversed(DX[:n + 1]))) >> P)
                        - ((ch * DV[n]) >> P)) // (n + 1))
         cols += [_unscale(DX, P, hinv, mpmath.mpf(1)), _unscale(DV, P, hinv, hinv)]
-    return out, tuple(cols)
+    return tuple(cols)
 
 
 def _unscale(Z, P, hinv, scale):
-    """``[Z_n 2^-P scale hinv^n]``: fixed-point scaled coefficients back to mpf."""
-    out = []
+    """``[Z_n 2^-P scale hinv^n]``: fixed-point scaled coefficients back to mpf (``ldexp(z, -P)``
+    is exact, then one rounded product, and ``scale *= hinv``, as on mpf; on the raw values)."""
+    prec, rnd = mpmath.mp._prec_rounding
+    h, s, out = mpmath.mpf(hinv)._mpf_, mpmath.mpf(scale)._mpf_, []
     for z in Z:
-        out.append(mpmath.ldexp(z, -P) * scale)
-        scale *= hinv
+        out.append(mpmath.mp.make_mpf(mpf_mul(mpf_shift(from_int(z), -P), s, prec, rnd)))
+        s = mpf_mul(s, h, prec, rnd)
     return out
 
 
@@ -255,10 +269,16 @@ def choose_step(fl, v0abs, N, bits, variational=True):
 
 
 def _horner(coeffs, tau):
-    acc = coeffs[-1]
+    """``sum coeffs[n] tau^n`` by Horner's rule at the current precision: the very roundings of
+    ``acc * tau + a`` on mpf (``mpf_mul``, ``mpf_add`` with the context's precision and
+    rounding), on the raw values (issue 33: the event search evaluates the step polynomial
+    thousands of times a period, and the mpf operators' dispatch was half of it)."""
+    tau = mpmath.mpf(tau)
+    prec, rnd = mpmath.mp._prec_rounding
+    t, acc = tau._mpf_, coeffs[-1]._mpf_
     for a in reversed(coeffs[:-1]):
-        acc = acc * tau + a
-    return acc
+        acc = mpf_add(mpf_mul(acc, t, prec, rnd), a._mpf_, prec, rnd)
+    return mpmath.mp.make_mpf(acc)
 
 
 def _deriv(coeffs):
@@ -304,6 +324,8 @@ class TaylorFlight:
         self._starts = [t0]
         self._state0 = [(x0, v0)]           # state at each step start
         self._steps = []                    # (h, xs, vs)
+        self._kept = []                     # the recurrence's (S~, P~) per step, for the columns
+        self._bound_at = (None, None)       # (ta, v(ta)) of the last event bound
         self._cols = []                     # variational polynomials per step (lazy)
         self._jac0 = [mpmath.eye(2)]        # flight matrix at each step start (lazy)
 
@@ -317,9 +339,11 @@ class TaylorFlight:
             t, (x, v) = self._starts[i], self._state0[i]
             h = mpmath.mpf(choose_step(self._fl, abs(float(v)), self.order,
                                        self.prec + EXTRA_BITS, True))
-            xs, _ = series_fixed(self.prm, t, x, v, self.s, self.order, h, self.iprec)
+            X, S, Pn = _main_fixed(self.prm, t, x, v, self.s, self.order, h, self.iprec)
+            xs = _unscale(X, self.iprec, 1 / h, mpmath.mpf(1))
             vs = _deriv(xs)
             self._steps.append((h, xs, vs))
+            self._kept.append((S, Pn))
             self._starts.append(t + h)
             self._state0.append((_horner(xs, h), _horner(vs, h)))
 
@@ -327,9 +351,7 @@ class TaylorFlight:
         with mpmath.workprec(self.iprec):
             while len(self._cols) <= i:
                 j = len(self._cols)
-                (x, v), t = self._state0[j], self._starts[j]
-                _, cols = series_fixed(self.prm, t, x, v, self.s, self.order,
-                                       self._steps[j][0], self.iprec, variational=True)
+                cols = _variational_fixed(self.prm, *self._kept[j], self.order, self._steps[j][0], self.iprec)
                 self._cols.append(cols)
                 self._jac0.append(self._step_matrix(cols, self._steps[j][0]) * self._jac0[j])
 
@@ -404,7 +426,9 @@ class TaylorFlight:
         """``(vmax, amax, a1max)`` over ``[ta, tb]`` (module docstring)."""
         if not tb >= ta:
             raise ValueError(f"need tb >= ta, got ta={ta}, tb={tb}")
-        _, va = self.state(ta)
+        if self._bound_at[0] is None or self._bound_at[0] != ta:    # bound_x2 and bound_v2 ask at one ta
+            self._bound_at = (ta, self.state(ta)[1])
+        va = self._bound_at[1]
         F, f, c, k, w = self.prm
         dt = mpmath.mpf(tb) - mpmath.mpf(ta)
         if c > 0:

@@ -79,11 +79,12 @@ def xpot_scenes(draw, damping=True):
 
 
 @st.composite
-def position_forced_scenes(draw):
+def position_forced_scenes(draw, restitutions=("1", "0.9", "0.6", "0")):
     """Issue 33: position forcing with every effect drawn -- ``F`` in [0.3, 3], ``f = rho F``
     with ``rho`` in [0, 0.6], ``omega`` in [0.5, 7], ``l`` in [-2, 1], a gap of 0.2 .. 4, the
-    wavenumber with ``k max(|l|, |r|, 1/2)`` in [0.1, 4], damping 0 or 0.01 .. 0.4,
-    restitution 1, 0.9, 0.6 or 0 (exact decimal strings)."""
+    wavenumber with ``k max(|l|, |r|, 1/2)`` in [0.1, 4], damping 0 or 0.01 .. 0.4, the
+    restitution one of ``restitutions`` (exact decimal strings; the constructed events, run
+    backward through impacts, need ``e > 0``)."""
     F = draw(decimals(0.3, 3.0, 3))
     f = f"{draw(decimals(0.0, 0.6, 3))}*{F}"
     omega = draw(decimals(0.5, 7.0, 3))
@@ -93,7 +94,7 @@ def position_forced_scenes(draw):
     k = f"{draw(decimals(0.1, 4.0, 3))}/{xmax:.2f}"
     c = draw(st.sampled_from(("0", "drawn")))
     c = draw(decimals(0.01, 0.4, 3)) if c == "drawn" else c
-    e = draw(st.sampled_from(("1", "0.9", "0.6", "0")))
+    e = draw(st.sampled_from(restitutions))
     return Scene(F=F, f=f, omega=omega, l=l, r=r, wavenumber=k, damping=c, restitution=e)
 
 

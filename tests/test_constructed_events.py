@@ -7,7 +7,6 @@ everywhere, nothing may be invented before it.
 import numpy as np
 import pytest
 
-import fast
 import reference
 from cross_check.agreement import construct as C
 from reference.scene import Scene
@@ -20,21 +19,7 @@ SCENES = {
     "weak_F_lt_f": Scene(F=1, f="1.5", omega=1, l=0, r=2),
     "narrow_f0": Scene(F=1, f=0, omega=1, l=0, r="0.8"),
 }
-_NAMES = np.array(list(fast.KINDS) + [""])
-
-
-def first_events(scene, cases, chunk=50_000):
-    """fast's first event (kind, time) and first chatter time for each constructed start."""
-    kinds, times, chatter = [], [], []
-    for i in range(0, len(cases), chunk):
-        log = fast.events(scene, cases.x[i:i + chunk], cases.v[i:i + chunk])
-        k = log.kind.reshape(-1, log.kind.shape[-1]) if log.kind.size else np.full((log.n.size, 1), -1)
-        t = log.t.reshape(k.shape) if log.t.size else np.full(k.shape, np.inf)
-        kinds.append(_NAMES[k[:, 0]])
-        times.append(np.where(k[:, 0] >= 0, t[:, 0], np.inf))
-        is_chatter = k == fast.KINDS.index("chatter")
-        chatter.append(np.where(is_chatter, t, np.inf).min(axis=1))
-    return np.concatenate(kinds), np.concatenate(times), np.concatenate(chatter)
+first_events = C.first_events
 
 
 def _check(scene, n, seed):

@@ -128,9 +128,13 @@ def test_fast_matches_golden(name):
         jmax = 1.0 if inp["jacobian"] is None else max(1.0, max(abs(float(v)) for r in inp["jacobian"] for v in r))
         if not (_within(fx[i], inp["phi"][0], t_phi * jmax) and _within(fv[i], inp["phi"][1], t_phi * jmax)):
             problems.append(f"{where}: Phi {fx[i]!r}, {fv[i]!r} vs {inp['phi']} (cond {jmax:.1e})")
+        # an event time is conditioned by Phi' and, for an impact, by 1/|v-| (kappa): where the
+        # force vanishes at the wall (eq. xpot) a grazing impact leaves Phi' ~ 1 (its saltation
+        # 2A/v- is 0) while its time still moves by the position's error over the speed
+        cond_t = max(jmax, _kappa(sc, inp["events"]))
         for e, g in zip(compare.canonical(f_evs[i], sc), inp["events"]):
-            if e.kind != "chatter" and not _within(e.t, g[1], t_phi * jmax):
-                problems.append(f"{where}: {e.kind} at t={e.t!r} vs {g[1]} (cond {jmax:.1e})")
+            if e.kind != "chatter" and not _within(e.t, g[1], t_phi * cond_t):
+                problems.append(f"{where}: {e.kind} at t={e.t!r} vs {g[1]} (cond {cond_t:.1e})")
         if inp["jacobian"] is not None:
             k = _kappa(sc, inp["events"]) ** 2 * jmax
             for a, b in zip(fJ[i].ravel(), [v for r in inp["jacobian"] for v in r]):

@@ -16,7 +16,7 @@ import pytest
 
 from cross_check import __main__ as cli
 from cross_check import golden, scenefile, scenes
-from cross_check.verify import document
+from cross_check.verify import document, tasks
 
 pytest_plugins = ["pytester"]
 
@@ -201,3 +201,19 @@ def test_each_check_of_verify_fails_when_its_statement_is_false():
     assert len(document.checks(_result(**{"golden file": cases["golden file"]}))) == 2
     hard_only = ({"document": {"cases": []}, "dropped": ["s / grazing / exact: dps 90 vs 110: ..."]}, 1.0)
     assert document.checks(_result(**{"golden file": hard_only})) == []   # a hard case left out: listed, not failed
+
+
+def test_the_report_says_what_each_scenes_data_proves():
+    """Issue 33: no blanket sentence about position forcing; per scene, what its data proves --
+    and an unproved input, or an orbit left unproved, shows in the count."""
+    assert document.proves(_result()) == "1/1 golden inputs proved (widest relative radius of Phi 1.0e-70)."
+    bad = {"enclosure": {"proved": False, "reason": "a grazing start"}}
+    two = {"document": {"cases": [{"name": "sample-0", "inputs": {"exact": bad, "float64": bad}}]}, "dropped": []}
+    orbits = [{"proof": {"proved": True}, "what": "orbit"}, {"proof": {"proved": False}, "what": "orbit"}]
+    said = document.proves(_result(**{"golden file": (two, 1.0), "orbits 1": (orbits, 1.0)}))
+    assert said.startswith("0/2 golden inputs proved;") and "1/2 periodic orbits proved" in said
+    rec = {"name": "forced", "F": "1", "f": "0.1", "omega": "1", "l": "0", "r": "1", "effects": ["position_forcing"]}
+    boom = RuntimeError("not run here")
+    got = _result(agreement=boom, **{"scorecard fast": boom})
+    text, _ = document.render([rec], {"scenes": {"forced": got}, "workers": 1, "seconds": 1.0}, tasks.FULL)
+    assert "- `forced`: 1/1 golden inputs proved" in text and "self-agreement alone" not in text

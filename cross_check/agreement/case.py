@@ -1,7 +1,9 @@
 """A state of interest at ``t = 0``, with what its digits mean (float64 or decimal).
 
 Both the agreement metrics (``compare``) and the scenes' states of interest (``cross_check.scenes``)
-use it: a case is the unit of work the two engines are compared on.
+use it: a case is the unit of work the two engines are compared on.  A hard case (``HardCase``)
+is a decimal state built around a delicate event, by ``hardcases`` (closed-form flights) or
+``hardcases_position`` (Taylor flights): the names, digits and record they share live here.
 """
 from __future__ import annotations
 
@@ -41,3 +43,33 @@ class Case:
         """The float64 rounding of this state, as a ``float64`` case (what fast sees)."""
         x, v = self.float()
         return Case(self.name, repr(x), repr(v), "float64", self.how, self.kind, self.t_event)
+
+
+#: digits of the backward constructions, and of the decimal states they are rounded to
+CONSTRUCT_DPS = 60
+STATE_DIGITS = 40
+#: every hard case ``hardcases.construct`` builds, in its order
+NAMES = ("grazing", "crossing_pair", "turn_at_wall", "impact_at_T", "stick_slip_boundary", "sticking",
+         "at_rest", "stopping", "chatter")
+
+
+class ConstructionError(ValueError):
+    """The chosen event cannot be reached backward unambiguously from ``t = 0``."""
+
+
+@dataclass(frozen=True)
+class HardCase:
+    """A state at ``t = 0`` (decimal strings, exact) and the event it was built around."""
+
+    name: str
+    x: str
+    v: str
+    t_event: str
+    kind: str
+    how: str
+
+
+def decimal_text(value, digits: int = STATE_DIGITS) -> str:
+    """``value`` (mpf) as a decimal string of ``digits`` significant digits (``"0"`` for 0)."""
+    return mpmath.nstr(value, digits, strip_zeros=False, min_fixed=-mpmath.inf, max_fixed=mpmath.inf) \
+        if value != 0 else "0"

@@ -26,6 +26,7 @@ tuples of floats or mpf.
 """
 from __future__ import annotations
 
+import functools
 import importlib
 import math
 from dataclasses import dataclass, field
@@ -104,8 +105,10 @@ def _start(case, dps):
         return case.mpf()
 
 
+@functools.lru_cache(maxsize=64)
 def ref_map(scene, case, periods: int = 1, dps: int = 50):
-    """``Phi^periods`` of the reference at ``dps`` digits, as an ``(x, v)`` mpf pair."""
+    """``Phi^periods`` of the reference at ``dps`` digits, as an ``(x, v)`` mpf pair (the recent
+    results are kept: ``verify`` asks the same ten-period truths for every adapter it scores)."""
     x, v = _start(case, dps)
     return tuple(_module("reference").stroboscopic_map(scene, x, v, periods=periods, dps=dps))
 

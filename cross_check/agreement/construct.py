@@ -92,7 +92,8 @@ class Cases:
 def _params(scene: Scene):
     if any(scene.has(e) for e in ("restitution", "damping", "position_forcing")) or not scene.has("forcing"):
         raise ValueError("construct: scene must be the base model with forcing (F > 0, "
-                         f"restitution 1, no damping, no position forcing), got {scene!r}")
+                         "restitution 1, no damping, no position forcing: construct_position builds "
+                         f"those), got {scene!r}")
     return tuple(scene.float(k) for k in ("F", "f", "omega", "l", "r"))
 
 
@@ -134,7 +135,7 @@ def start_error(scene, x0, v0, t):
     return dx, dv
 
 
-def _phase_times(scene, c, rng):
+def phase_times(scene, c, rng):
     """Random times in ``(0, T]`` where ``|cos w t| = c`` (one of the four phases of a
     period, drawn at random) and the sign of ``cos w t`` there."""
     w = scene.float("omega")
@@ -167,7 +168,7 @@ def _velocity_candidates(scene, rng, n, kind):
     if kind == "turn":
         delta[rng.random(n) < 0.1] = 0.0                # on the stick-slip boundary exactly
     c = f * (1 + delta) / F if kind == "turn" else np.minimum(f * (1 - delta) / F, 1.0)
-    t, sign_cos = _phase_times(scene, c, rng)
+    t, sign_cos = phase_times(scene, c, rng)
     keep = (c <= 1) & (t > 0.02 * 2 * np.pi / w)
     if kind == "stick":
         delta = np.where(c >= 1, 1 - F * np.abs(np.cos(w * t)) / f, delta)   # F < f: any phase
@@ -224,27 +225,58 @@ def construct(scene: Scene, n: int, *, seed: int = 0, kinds=KINDS) -> Cases:
     cases on every run.  Turns and sticking need friction, chatter ``F > f > 0``; a kind whose
     constructions keep failing (e.g. an impact at exactly ``T`` as a single flight, where the
     forcing's swing exceeds the gap) yields what ``_MAX_ROUNDS`` rounds of draws give, and
-    none after ``_BARREN_ROUNDS`` barren ones."""
+    none after ``_BARREN_ROUNDS`` barren ones.  (Position forcing: ``construct_position``.)"""
+    check_count(n)
+    F, f, _, _, _ = _params(scene)
+
+    def admitted(kind):
+        return not ((kind in ("turn", "stick", "chatter") and f == 0) or (kind in ("turn", "chatter") and F <= f))
+
+    return draw(scene, n, seed, kinds, _build, admitted)
+
+
+def check_count(n):
     if not (isinstance(n, int) and n >= 1):
         raise ValueError(f"construct: n must be an integer >= 1, got {n!r}")
-    F, f, _, _, _ = _params(scene)
+
+
+def draw(scene, n, seed, kinds, build, admitted) -> Cases:
+    """The rounds of draws of ``construct``: ``build(scene, rng, count, kind)`` gives certified
+    cases of a kind, ``admitted(kind)`` whether the scene has it at all."""
     rng = np.random.default_rng(seed)
     out = []
     for kind in kinds:
         if kind not in KINDS:
             raise ValueError(f"construct: unknown kind {kind!r}; known: {', '.join(KINDS)}")
-        if (kind in ("turn", "stick", "chatter") and f == 0) or (
-                kind in ("turn", "chatter") and F <= f):
+        if not admitted(kind):
             continue
         got, have = [], 0
         for rounds in range(1, _MAX_ROUNDS + 1):
-            part = _build(scene, rng, _OVERDRAW * n, kind)
+            part = build(scene, rng, _OVERDRAW * n, kind)
             got.append(part)
             have += len(part)
             if have >= n or (have == 0 and rounds >= _BARREN_ROUNDS):
                 break
         out.append(Cases.join(got).select(np.arange(min(n, have))))
     return Cases.join(out)
+
+
+def first_events(scene, cases: Cases, run_ends=("chatter",), chunk: int = 50_000):
+    """fast's first event (kind, time) for each constructed start, and the time of the first
+    event of a kind in ``run_ends`` (the end of a chatter run; ``inf``: none): ``verify``'s input."""
+    import fast
+
+    names = np.array(list(fast.KINDS) + [""])
+    ends = [fast.KINDS.index(k) for k in run_ends]
+    kinds, times, stops = [], [], []
+    for i in range(0, len(cases), chunk):
+        log = fast.events(scene, cases.x[i:i + chunk], cases.v[i:i + chunk])
+        k = log.kind.reshape(-1, log.kind.shape[-1]) if log.kind.size else np.full((log.n.size, 1), -1)
+        t = log.t.reshape(k.shape) if log.t.size else np.full(k.shape, np.inf)
+        kinds.append(names[k[:, 0]])
+        times.append(np.where(k[:, 0] >= 0, t[:, 0], np.inf))
+        stops.append(np.where(np.isin(k, ends), t, np.inf).min(axis=1))
+    return np.concatenate(kinds), np.concatenate(times), np.concatenate(stops)
 
 
 def verify(cases: Cases, first_kind, first_t, chatter_t):

@@ -37,37 +37,23 @@ costs the reference thousands of bounces at the golden data's digits).  With ``F
 moving mid-gap (it stops for good).
 
 ``construct(scene)`` returns the cases and, for every kind the scene does not admit, the reason
-(frictionless: no sticking; ``F <= f``: no turn and no chatter; position forcing: no closed-form
-flight; a construction that found no unambiguous backward run: its last obstacle).
+(frictionless: no sticking; ``F <= f``: no turn and no chatter; a construction that found no
+unambiguous backward run: its last obstacle).  Under position forcing (``F cos(k x) cos(w t)``,
+``F > 0``) the flight has no closed form: every kind but chatter comes from
+``hardcases_position`` (the reference's Taylor flight run backward, each case a single flight
+certified by a validated one), chatter from ``_chatter_case`` at the wall the force pushes into at
+``t = 0`` (``_push``).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import mpmath
 
+from cross_check.agreement.case import (CONSTRUCT_DPS, NAMES, STATE_DIGITS, ConstructionError,  # noqa: F401
+                                        HardCase, decimal_text as _dec)
 from reference.scene import Scene
 
-CONSTRUCT_DPS = 60
-STATE_DIGITS = 40
 _MAX_STEPS = 20000
 _MAX_EVENTS = 400
-
-
-class ConstructionError(ValueError):
-    """The chosen event cannot be reached backward unambiguously from ``t = 0``."""
-
-
-@dataclass(frozen=True)
-class HardCase:
-    """A state at ``t = 0`` (decimal strings, exact) and the event it was built around."""
-
-    name: str
-    x: str
-    v: str
-    t_event: str
-    kind: str
-    how: str
 
 
 def _params(scene: Scene):
@@ -223,11 +209,6 @@ def construct_backward(scene: Scene, t_star, x_star, v_before, s, budget=None):
     raise RuntimeError(f"backward construction: more than {_MAX_EVENTS} events from t*={t_star}")
 
 
-def _dec(value) -> str:
-    return mpmath.nstr(value, STATE_DIGITS, strip_zeros=False, min_fixed=-mpmath.inf, max_fixed=mpmath.inf) \
-        if value != 0 else "0"
-
-
 def _first_valid(scene, candidates, left_state, name, kind, how):
     """Try candidate event times until the backward construction succeeds: ``(case, None)``, or
     ``(None, why)`` with the last obstacle met."""
@@ -249,15 +230,16 @@ def _first_valid(scene, candidates, left_state, name, kind, how):
                   f"candidate times tried; last: {why})")
 
 
-#: every hard case this module builds, in its order
-NAMES = ("grazing", "crossing_pair", "turn_at_wall", "impact_at_T", "stick_slip_boundary", "sticking",
-         "at_rest", "stopping", "chatter")
-
-
 def construct(scene: Scene) -> tuple[list[HardCase], dict[str, str]]:
-    """The hard cases of ``scene`` and ``{name: reason}`` for each of ``NAMES`` it does not admit."""
-    if scene.has("position_forcing"):
-        return [], {n: "position-dependent forcing: the flight has no closed form to run backward" for n in NAMES}
+    """The hard cases of ``scene`` and ``{name: reason}`` for each of ``NAMES`` it does not admit
+    (under position forcing every kind but chatter comes from ``hardcases_position``)."""
+    if scene.has("position_forcing") and scene.has("forcing"):
+        from cross_check.agreement import hardcases_position
+
+        built, notes = hardcases_position.construct(scene)
+        with mpmath.workdps(CONSTRUCT_DPS):
+            _chatter_case(scene, built, notes)
+        return [built[n] for n in NAMES if built.get(n) is not None], notes
     with mpmath.workdps(CONSTRUCT_DPS):
         F, f, w, l, r = _params(scene)
         T = 2 * mpmath.pi / w
@@ -323,17 +305,37 @@ def _friction_cases(scene, built, notes):
 
 #: chatter starts tried: ``(h, u) = (10^-3 100^-k, 10^-2 10^-k)``, ``k < _CHATTER_TRIES``
 _CHATTER_TRIES = 5
+#: under position forcing from ``k = 3``: every bounce the reference simulates at the golden
+#: data's 90 and 110 digits is a Taylor flight with its own event search, and a start nearer the
+#: accumulation has fewer of them (issue 33, scene A: 42 events instead of 62 from k = 0)
+_FIRST_TRY_POSITION = 3
 #: bounces shrinking slower than this cost the reference thousands of bounces at the golden
 #: data's 90 and 110 digits (rho = 0.99: about a minute per input): no chatter case then
 RHO_MAX = mpmath.mpf("0.92")
 
 
+def _push(scene):
+    """``(P, side, wall, name)``: the wall the force pushes into hardest at ``t = 0`` and the push
+    ``P = side A(wall, 0)`` (``F`` into ``r`` for the base model; ``side F cos(k wall)`` under
+    position forcing, the larger of the two walls)."""
+    F, _, _, l, r = _params(scene)
+    k = scene.mpf("wavenumber")
+    if k is None:
+        return F, 1, r, "r"
+    return max((F * mpmath.cos(k * r), 1, r, "r"), (-F * mpmath.cos(k * l), -1, l, "l"))
+
+
 def _chatter_case(scene, built, notes):
-    """The explicit chatter start (module docstring) where the scene chatters."""
-    F, f, w, l, r = _params(scene)
+    """The explicit chatter start (module docstring) where the scene chatters: at the wall the
+    force pushes into at ``t = 0`` (``_push``; ``F`` in place of the push ``P`` in the docstring)."""
+    _, f, w, l, r = _params(scene)
+    F, side, wall, name = _push(scene)
     e = scene.mpf("restitution")
     if F <= f:
-        notes["chatter"] = "F <= f: the force never pushes into a wall beyond friction, no chatter"
+        notes["chatter"] = ("F <= f: the force never pushes into a wall beyond friction, no chatter"
+                            if name == "r" and scene.mpf("wavenumber") is None else
+                            f"the force at t = 0 pushes into neither wall beyond friction (push "
+                            f"{mpmath.nstr(F, 6)} <= f at wall {name}; a chatter case starts at t = 0)")
         return
     if f == 0 and e == 1:
         notes["chatter"] = "f = 0 and e = 1: the bounces do not shrink (rho = 1), no chatter"
@@ -349,7 +351,7 @@ def _chatter_case(scene, built, notes):
                             "the golden data's 90 and 110 digits")
         return
     push = mpmath.acos(f / F) / w                       # A = F cos wt > f on [0, push)
-    for k in range(_CHATTER_TRIES):
+    for k in range(_FIRST_TRY_POSITION if scene.mpf("wavenumber") is not None else 0, _CHATTER_TRIES):
         h_den, u_den = 10 ** (3 + 2 * k), 10 ** (2 + k)
         h, u = mpmath.mpf(1) / h_den, mpmath.mpf(1) / u_den
         if not h < (r - l) / 100:
@@ -357,9 +359,11 @@ def _chatter_case(scene, built, notes):
         v1 = mpmath.sqrt(u * u + 2 * b * h)                # speed at the first impact (frozen force)
         t_inf = (v1 - u) / b + e * v1 * (1 / a + 1 / mpmath.sqrt(a * b)) / (1 - rho)
         if t_inf < push * 7 / 10:
+            sign, pushed = ("", "F") if scene.mpf("wavenumber") is None else ("-" if side < 0 else "", "P")
             built["chatter"] = HardCase(
-                "chatter", _dec(r - h), "0." + "0" * (1 + k) + "1", "0", "chatter",
-                f"explicit: x0 = r - 1/{h_den}, v0 = 1/{u_den} at t = 0 where A = F > f pushes into r")
+                "chatter", _dec(wall - side * h), sign + "0." + "0" * (1 + k) + "1", "0", "chatter",
+                f"explicit: x0 = {name} {'-' if side > 0 else '+'} 1/{h_den}, v0 = {sign}1/{u_den} at t = 0 "
+                f"where A = {pushed} > f pushes into {name}")
             return
     notes["chatter"] = (f"no start tried (x0 = r - 1e-3 .. 1e-11, v0 = 1e-2 .. 1e-6) accumulates within 0.7 of "
                         f"the push acos(f/F)/w (rho = {mpmath.nstr(rho, 4)})")

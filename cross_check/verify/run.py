@@ -110,9 +110,8 @@ def compute(records, depth, *, scheduler=None, workers=2, progress=None, client=
             parts = [run.value(name, f"golden {j + 1}/{len(chunks)}") for j in range(len(chunks))]
             run.submit(name, "golden file", tasks.golden_document, rec, parts, depth)
             doc = run.value(name, "golden file")
-            for adapter in ADAPTERS:
-                run.submit(name, f"scorecard {adapter}", tasks.scorecard, rec, doc, adapter, depth)
-            run.submit(name, "agreement", tasks.agreement, rec, depth)
+            run.submit(name, "scorecards", tasks.scorecards, rec, doc, ADAPTERS, depth)
+            run.submit(name, "agreement", tasks.agreement, rec, doc, got[0]["cases"], depth)
             for k in depth.periods:
                 run.submit(name, f"orbits {k}", tasks.orbits, rec, k, depth)
             run.submit(name, "portrait", tasks.portrait, rec,
@@ -121,7 +120,11 @@ def compute(records, depth, *, scheduler=None, workers=2, progress=None, client=
         n_workers = len(cl.scheduler_info()["workers"])
     out = {rec["name"]: {} for rec in records}
     for (name, what), value in {**states, **rest}.items():
-        out[name][what] = value
+        if what != "scorecards":
+            out[name][what] = value
+            continue
+        for adapter in ADAPTERS:          # one task, one result (and its own CPU seconds) per adapter
+            out[name][f"scorecard {adapter}"] = value if isinstance(value, Exception) else value[0][adapter]
     return {"scenes": out, "seconds": time.perf_counter() - run.t0, "workers": n_workers}
 
 

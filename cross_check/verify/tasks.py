@@ -11,12 +11,13 @@ strings, PNG bytes): the client writes every file, so a remote cluster needs no 
   the dps 90 / 110 self-check, a proof per input; a state whose self-check fails is *left out*
   with the reason (never written with a doubtful digit);
 * ``agreement`` -- fast against the reference, itinerary first, then digits, on the samples and
-  on the hard cases (``report.sections``);
+  on the hard cases (``report.sections``), the reference's answers read from the golden data;
 * ``orbits``    -- periodic points of one period by Newton from a grid of seeds
   (``dynamics.periodic``), each classified, and proved by Krawczyk (``paper.claims.base.prove``:
   ``reference.enclosure.prove_periodic``; a segment of no-impact fixed points by ``prove_segment``);
 * ``portrait``  -- the PNG (``verify.portrait``);
-* ``scorecard`` -- an adapter scored on the scene's own golden data (``score.card``).
+* ``scorecard`` -- an adapter scored on the scene's own golden data (``score.card``); ``scorecards``
+  scores every adapter in one task.
 """
 from __future__ import annotations
 
@@ -107,12 +108,18 @@ def golden_document(rec: dict, parts: list, depth: Depth) -> dict:
     return {"document": doc, "dropped": [why for _, e, why in rows if e is None]}
 
 
-def agreement(rec: dict, depth: Depth) -> dict:
-    """Fast vs reference: the samples (``sections.scene_agreement``) and the hard cases."""
+def agreement(rec: dict, golden_file: dict, cases: list, depth: Depth) -> dict:
+    """Fast vs reference: the samples (``sections.scene_agreement``) and the hard cases among
+    ``cases`` (the ``states`` result: not built again), the reference's one-period answers read
+    from the scene's golden data (the ``golden_document`` result: dps 90, checked at 110, proved)
+    rather than computed again at dps 50; the ten-period comparisons are the fast scorecard's."""
     name = scene_of(rec)
-    hard = depth.hard_agreement and scenes.hard_states(name)
-    return {"samples": sections.scene_agreement(name, depth.n_sample, depth.n_ten),
-            "hard": sections.hard_case_rows(name) if hard else []}
+    hard = [c for c in cases if c.exact == "decimal"] if depth.hard_agreement else []
+    ref = sections.golden_reference(golden_file["document"])
+    # the ten-period comparisons are fast's scorecard's (the same measurement on the same sample
+    # states, against the reference at 40 digits): ``document`` shows them in this table
+    return {"samples": sections.scene_agreement(name, depth.n_sample, 0, reference=ref),
+            "hard": sections.hard_case_rows(name, reference=ref, cases=hard) if hard else []}
 
 
 def _segments(found, tol):
@@ -128,11 +135,52 @@ def _segments(found, tol):
     return groups
 
 
+#: the precisions (bits) and Krawczyk box radii of an orbit's proof, tried in turn until one
+#: proves it.  Issue 33: a proof at 320 bits spent ~90% of its time in the point integrator
+#: under position forcing (the point logs of the Newton steps, the box and the section at
+#: ``prec / 3.33 + 12`` digits of Taylor flights: ~5 s a period-2 orbit, 220 of the 292 CPU s of a
+#: full verify of an unseen scene); at 64 bits with a box of 2^-32 the same proofs take ~0.4 s,
+#: and a proof at any precision is a proof (the box radius, in the report, says how tight).  A
+#: box too wide for one itinerary, or a centre that 64 bits cannot polish (multipliers ~1e3),
+#: climbs: measured on scene B's period-3 saddle, (64, 2^-32) fails, (96, 2^-48) proves in 1.2 s,
+#: where 320 bits takes 8.9 s.
+PROOF_LADDER = ((64, 2.0 ** -32), (96, 2.0 ** -48), (128, 2.0 ** -64), (320, None))
+
+
+def _section(sc, x, v, period):
+    """``(phase, x, v)``: ``reference.enclosure.shooting.section``'s choice of the proof's section
+    -- the middle of the longest quiet stretch of the orbit, on the grid of ``T / SECTION_GRID``
+    -- from fast's events and flow (the proof polishes the state; the section only has to lie
+    away from the events), instead of two runs of the point integrator."""
+    import fast
+    from fractions import Fraction
+
+    from reference.enclosure.shooting import SECTION_GRID
+
+    T = sc.period
+    log = fast.events(sc, np.array([x]), np.array([v]), period * T)
+    times = [0.0] + [float(t) for k, t in zip(log.kind.reshape(-1), log.t.reshape(-1)) if k >= 0] + [period * T]
+    _, mid = max((b - a, (a + b) / 2) for a, b in zip(times, times[1:]))
+    ticks = int(math.floor(SECTION_GRID * mid / T))
+    if ticks == 0:
+        return Fraction(0), x, v
+    xs, vs = fast.flow(sc, np.array([x]), np.array([v]), T * ticks / SECTION_GRID)
+    return Fraction(ticks % SECTION_GRID, SECTION_GRID), float(xs[0]), float(vs[0])
+
+
 def _proof(label, sc, p, period, seg) -> dict:
-    """The Krawczyk proof record of one orbit (``paper.claims.base.prove``); a proof that cannot
-    be attempted (position forcing has no closed-form flight) is a failed one, with the reason."""
+    """The Krawczyk proof record of one orbit (``paper.claims.base.prove``), up the
+    ``PROOF_LADDER`` (a segment of no-impact fixed points: ``prove_segment`` at its default); a
+    proof that raises is a failed one, with the reason."""
     try:
-        return prove(label, sc, p.x, p.v, k=period, segment=seg)
+        if seg is not None:
+            return prove(label, sc, p.x, p.v, k=period, segment=seg)
+        phase, x, v = _section(sc, p.x, p.v, period)
+        for prec, radius in PROOF_LADDER:
+            rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase)
+            if rec["proved"]:
+                return rec
+        return rec
     except (ValueError, RuntimeError, ArithmeticError) as exc:
         return {"orbit": label, "periods": period, "proved": False, "reason": f"{type(exc).__name__}: {exc}"}
 
@@ -172,6 +220,20 @@ def portrait(rec: dict, orbit_parts: list, depth: Depth) -> bytes:
 
     sc = scenes.scene(scene_of(rec))
     return draw.png(sc, [row for part in orbit_parts for row in part], depth, velocity_range(sc))
+
+
+def scorecards(rec: dict, golden_file: dict, adapters: tuple, depth: Depth) -> dict:
+    """``{adapter: (scorecard, CPU seconds)}``: ``scorecard`` for each adapter in turn, in one
+    process, so that the reference's ten-period truths (``score.card._ten_periods``: the same
+    states for every adapter, half of a scorecard's cost under position forcing) are computed
+    once (``compare.ref_map`` keeps its recent results)."""
+    import time
+
+    out = {}
+    for adapter in adapters:
+        t0 = time.process_time()
+        out[adapter] = (scorecard(rec, golden_file, adapter, depth), time.process_time() - t0)
+    return out
 
 
 def scorecard(rec: dict, golden_file: dict, adapter: str, depth: Depth) -> dict:

@@ -82,9 +82,10 @@ class Field:
         return [x, v, a, a1, a2]
 
     def lipschitz(self, t, x) -> arb:
-        """An upper bound of ``|Df|_inf = max(1, |A_x| + c)`` over the balls (an exact ball)."""
+        """An upper bound of ``|Df|_inf = max(1, |A_x| + |c|)`` over the balls (an exact ball;
+        ``|c|``: a flight run backward in time has the damping ``-c``)."""
         A_x = self.F * self.k * (self.k * x).sin() * (self.w * t).cos()
-        bound = (abs(A_x) + self.c).upper()          # exact: the comparison is decided
+        bound = (abs(A_x) + abs(self.c)).upper()     # exact: the comparison is decided
         return bound if bound > 1 else arb(1)
 
     # -- Taylor coefficients -------------------------------------------------------------

@@ -173,15 +173,17 @@ def _ball(b):
     return list(decimal_ball(b, BALL_DIGITS))
 
 
-def prove(label, scene, x, v, k=1, segment=None) -> dict:
+def prove(label, scene, x, v, k=1, segment=None, **how) -> dict:
     """A Krawczyk proof of the period-``k`` orbit through ``(x, v)`` at ``t = 0`` (a point the
     claim found; ``reference.enclosure.prove_periodic`` polishes it and picks a section away
     from the orbit's events).  JSON-ready: ``orbit``, ``periods``, ``proved`` and, if proved,
     the box ``radius``, the fixed point's balls ``point`` at ``t = phase T``, the multipliers
     (``[mid, radius]``, or ``{"re", "im"}`` for a complex pair), ``kind``, ``stability`` and
     the ``itinerary``; else ``reason``.  ``segment = (x_lo, x_hi)``: prove the segment of fixed
-    points ``[x_lo, x_hi] x {v*}`` of a no-impact orbit instead (``prove_segment``)."""
-    p = prove_periodic(scene, x, v, periods=k) if segment is None else prove_segment(scene, *segment, v)
+    points ``[x_lo, x_hi] x {v*}`` of a no-impact orbit instead (``prove_segment``).  ``how``:
+    ``prove_periodic``'s ``prec``, ``radius`` and ``phase`` (then ``(x, v)`` is the state at
+    ``t = phase T``)."""
+    p = prove_periodic(scene, x, v, periods=k, **how) if segment is None else prove_segment(scene, *segment, v)
     rec = {"orbit": label, "periods": k, "proved": p.proved, "seconds": round(p.seconds, 2)}
     if not p.proved:
         rec["reason"] = p.reason

@@ -1,0 +1,143 @@
+"""fast finds every constructed event under position forcing (issue 33): starts built backward
+from a known first event by ``cross_check.agreement.construct_position`` (a float64 Taylor flight
+of its own, ``backflight``, independent of both integrators), over 1e3 in the default run and
+1e5 in a ``slow`` test, on two unseen scenes, eq. xpot and random scenes.  Outside the band (the
+start's rounding and the construction's error, carried to the event) the constructed event must
+come first, of its kind, at its time; everywhere nothing may be invented before it.
+
+A chatter run's end is its ``chatter`` event or, equivalently in ``compare.canonical``, the
+``contact`` that closes the run of impacts.
+"""
+import mpmath
+import numpy as np
+import pytest
+from hypothesis import given, settings
+
+import reference
+from cross_check.agreement import backflight, construct as C, construct_position as CP
+from reference.scene import Scene
+from reference.taylor import TaylorFlight
+from tests.strategies import position_forced_scenes
+
+SCENES = {
+    "A": Scene(F=1, f="0.15", omega="1.7", l="-0.4", r="0.9", wavenumber="1.3"),
+    "B": Scene(F=2, f="0.3", omega="1.2", l=-1, r=1, restitution="0.8", damping="0.05", wavenumber="0.7"),
+    "xpot": Scene(F=1, f="0.1", omega="2*pi", l=-1, r=1, wavenumber="pi/2"),
+}
+
+
+def first_events(scene, cases):
+    """fast's first events; a chatter run ends at its ``chatter`` or its closing ``contact``."""
+    return C.first_events(scene, cases, run_ends=("chatter", "contact"))
+
+
+def _check(scene, n, seed):
+    cases = CP.construct(scene, n, seed=seed)
+    result = C.verify(cases, *first_events(scene, cases))
+    for name in ("missed", "invented", "wrong_time"):
+        idx = result[name][:5]
+        assert not idx.size, (name, [(C.KINDS[cases.kind[i]], cases.x[i], cases.v[i], cases.t_star[i])
+                                     for i in idx])
+    return cases, result
+
+
+@pytest.mark.parametrize("name", list(SCENES))
+def test_every_constructed_event_is_found(name):
+    """Over 1e3 cases in all (120 of each kind a scene admits, three scenes)."""
+    cases, result = _check(SCENES[name], 120, seed=21)
+    kinds = set(np.array(C.KINDS)[cases.kind])
+    assert len(cases) >= 480 and result["band"] < len(cases)
+    assert {"crossing_pair", "tangency", "turn", "stick"} <= kinds
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", list(SCENES))
+def test_a_hundred_thousand_constructed_events_are_found(name):
+    """1e5 cases in all (7000 of each kind a scene admits, three scenes)."""
+    _check(SCENES[name], 7000, seed=22)
+
+
+@settings(max_examples=6)
+@given(position_forced_scenes(restitutions=("1", "0.9", "0.6")))
+def test_constructed_events_are_found_on_random_scenes(scene):
+    """Every parameter and effect drawn (``position_forced_scenes``), 30 cases of each kind."""
+    _check(scene, 30, seed=23)
+
+
+def test_the_construction_agrees_with_the_reference():
+    """A sample of the non-band cases, integrated forward by the reference at 30 digits: the
+    same first event at the constructed time (chatter: an accumulation before the push ends)."""
+    for scene in (SCENES["A"], SCENES["B"]):
+        cases = CP.construct(scene, 30, seed=24)
+        kinds = np.array(C.KINDS)[cases.kind]
+        for k in C.KINDS:
+            for i in np.flatnonzero((kinds == k) & ~cases.in_band)[:2]:
+                end = cases.t_star[i] + cases.margin[i] if k == "chatter" else scene.period
+                got = reference.trajectory(scene, float(cases.x[i]), float(cases.v[i]), float(end), dps=30)
+                names = [e.kind for e in got]
+                if k == "chatter":
+                    assert "chatter" in names or names[-1:] == ["contact"], (i, names)
+                else:
+                    assert names[0] == C.FIRST_EVENT[k], (k, i, names)
+                    assert abs(float(got[0].t) - cases.t_star[i]) <= cases.time_tol[i], (k, i, got[0])
+
+
+def _reversed(scene):
+    class Reversed:
+        def mpf(self, name):
+            return -scene.mpf(name) if name == "damping" else scene.mpf(name)
+    return Reversed()
+
+
+@settings(max_examples=8)
+@given(position_forced_scenes(restitutions=("1", "0.9", "0.6")))
+def test_the_construction_error_bound_holds(scene):
+    """``backflight``'s claim: the forward flight from its float64 start reaches the event
+    state within ``(dx, dv)`` -- checked by the reference's Taylor flight at 40 digits, forward
+    from the float64 start (exact binary numbers), on event states across the gap."""
+    rng = np.random.default_rng(25)
+    n = 6
+    t = rng.uniform(0.05, 1.0, n) * scene.period
+    x = scene.float("l") + (scene.float("r") - scene.float("l")) * rng.uniform(0.05, 0.95, n)
+    v = rng.uniform(-1, 1, n) * scene.float("F") / scene.float("omega")
+    s = np.where(v >= 0, 1.0, -1.0)
+    bk = backflight.run(backflight.Params.of(scene), t, x, v, s, C.SAMPLES)
+    checked = 0
+    for i in np.flatnonzero(bk.ok):
+        with mpmath.workdps(40):
+            xe, ve = TaylorFlight(scene, 0, mpmath.mpf(bk.x0[i]), mpmath.mpf(bk.v0[i]), int(s[i])).state(
+                mpmath.mpf(t[i]))
+            assert abs(xe - x[i]) <= bk.dx[i] and abs(ve - v[i]) <= bk.dv[i], (i, float(xe - x[i]), bk.dx[i],
+                                                                                float(ve - v[i]), bk.dv[i])
+        checked += 1
+    assert checked >= 1
+
+
+def test_the_certificate_refuses_a_backward_flight_that_meets_an_earlier_event():
+    """Event states whose backward flight leaves the gap (an impact at r arrived at so fast that
+    the flight crosses l before t = 0) or passes v = 0 (a turn before t*) are refused; the same
+    states made harmless (short flights) pass: the certificate is not vacuous."""
+    scene = SCENES["A"]
+    F, f, w, l, r, c, k, _ = CP.params(scene)
+    T = scene.period
+    t = np.array([0.9 * T, 0.05 * T, 0.9 * T, 0.05 * T])
+    x = np.array([r, r, 0.2, 0.2])
+    v = np.array([3.0, 3.0, 0.0, 0.0])
+    s = np.array([1.0, 1.0, -1.0, -1.0])                  # x'' < 0 into r; -A - f < 0 at the stops
+    decel = s * F * np.cos(k * x) * np.cos(w * t) - f - c * np.abs(v)
+    bk, ok = CP.backward(scene, t, x, v, s, decel)
+    assert bk.x0[0] < l                                   # the flight really crosses l
+    assert not ok[0] and ok[1]
+    ref = [e.kind for e in reference.trajectory(scene, float(bk.x0[2]), float(bk.v0[2]), float(t[2]), dps=20)
+           if e.kind != "stick"] if l <= bk.x0[2] <= r else ["outside"]
+    assert ref, "the long velocity case must meet an earlier event (or leave the gap)"
+    assert not ok[2] and ok[3]
+
+
+def test_bad_arguments():
+    with pytest.raises(ValueError, match="position forcing"):
+        CP.params(Scene(F=1, f="0.1", omega=1, l=0, r=1))
+    with pytest.raises(ValueError, match="unknown kind"):
+        CP.construct(SCENES["A"], 5, kinds=("bounce",))
+    with pytest.raises(ValueError, match="n must be an integer >= 1"):
+        CP.construct(SCENES["A"], 0)
