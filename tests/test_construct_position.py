@@ -64,6 +64,20 @@ def test_constructed_events_are_found_on_random_scenes(scene):
     _check(scene, 30, seed=23)
 
 
+def test_a_close_pair_shallower_than_the_tangent_floor_is_timed_at_its_first_root():
+    """Case 4801 of the slow run on scene A (seed 22): a crossing pair 1.2e-14 deep, out of the
+    band but within fast's tangent floor (64 eps).  fast took the dip's minimum for the root, half
+    the pair's width (1.5e-7) late; the reference, forward at 30 digits, puts the impact at t*."""
+    scene = SCENES["A"]
+    x, v, t_star, tol = -0.37653766598553956, -0.21829192222162155, 0.21762580636873952, 4.156358153904848e-09
+    first = reference.trajectory(scene, x, v, 0.3, dps=30)[0]
+    assert first.kind == "impact" and abs(float(first.t) - t_star) <= tol / 8, first
+    cases = C.Cases(np.array([C.KINDS.index("crossing_pair")]), np.array([x]), np.array([v]), np.array([t_star]),
+                    np.array([1.2458524476591591e-14]), np.array([False]), np.array([tol]))
+    result = C.verify(cases, *first_events(scene, cases))
+    assert not any(result[k].size for k in ("missed", "invented", "wrong_time")), result
+
+
 def test_the_construction_agrees_with_the_reference():
     """A sample of the non-band cases, integrated forward by the reference at 30 digits: the
     same first event at the constructed time (chatter: an accumulation before the push ends)."""
