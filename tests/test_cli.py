@@ -7,6 +7,7 @@ available if their module is missing); a quick report runs end to end into a tmp
 from __future__ import annotations
 
 import pathlib
+import re
 import subprocess
 import sys
 import types
@@ -31,6 +32,14 @@ def test_help_lists_each_command_on_one_line():
         hits = [ln for ln in lines if ln.strip().startswith(name + " ")]
         assert len(hits) == 1, (name, proc.stdout)
         assert len(hits[0].split(maxsplit=1)[1]) > 10, hits[0]
+
+
+@pytest.mark.parametrize("command", list(cli.COMMANDS))
+def test_every_command_documents_its_exit_status(command, capsys):
+    """Each command's --help says what its exit statuses mean (in process: argparse prints, exits 0)."""
+    assert cli.main([command, "--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert re.search(r"exit\b.{0,200}?\b2\b", text, re.IGNORECASE | re.DOTALL), (command, text[-300:])
 
 
 @pytest.mark.parametrize("args, fragment", [

@@ -149,7 +149,9 @@ def build_parser() -> argparse.ArgumentParser:
         description="The league: every installed peer (SUNDIALS CVODE, diffrax, MuJoCo, scipy, heyoka), fast and "
                     "the reference, each at three or more settings, scored on the golden data by the scorecard "
                     "(per-start budgets, in its worker process).  Writes league.md, league.json and "
-                    "work_precision.png.  A peer that is not installed is skipped, and said so.")
+                    "work_precision.png.  A peer that is not installed is skipped, and said so.  Exit status: 0 the run "
+                    "completed (league.md's goal line says whether fast met its goal), 2 bad arguments or an "
+                    "unwritable --out.")
     parser.add_argument("--quick", action="store_true",
                         help=f"{len(entries.QUICK_SCENES)} scenes, fewer settings (about 2 minutes on 2 cores)")
     parser.add_argument("--out", default="league", type=outputs.check_folder,

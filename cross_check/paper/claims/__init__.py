@@ -74,7 +74,9 @@ def main(argv=None) -> int:
     """``python -m cross_check claims [--quick] [--json FILE] [--out DIR] [--only ID ...]``: print the
     table (and write it as JSON)."""
     import argparse
-    ap = argparse.ArgumentParser(prog="python -m cross_check claims", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m cross_check claims", description=__doc__.splitlines()[0],
+                                 epilog="Exit status: 0 the table was made (a refuted claim is a verdict in it, "
+                                        "not an error), 2 bad arguments or an unwritable output.")
     ap.add_argument("--quick", action="store_true", help="small grids (the test-suite settings)")
     ap.add_argument("--json", metavar="FILE", type=outputs.check_file, help="write the full table as JSON")
     ap.add_argument("--out", metavar="DIR", type=outputs.check_folder, help="write the full table as DIR/claims.json")
