@@ -32,6 +32,10 @@ SCENES = {
     "A": Scene(F=1, f="0.15", omega="1.7", l="-0.4", r="0.9", wavenumber="1.3"),
     "B": Scene(F=2, f="0.3", omega="1.2", l=-1, r=1, restitution="0.8", damping="0.05", wavenumber="0.7"),
     "xpot": Scene(F=1, f="0.1", omega="2*pi", l=-1, r=1, wavenumber="pi/2"),
+    # l = -0.7 rounds outward at the candidates' precision: its wall kinds were refused as
+    # "outside the gap" before the certificate started from the wall's own ball
+    "C": Scene(F="1.5", f="0.2", omega="2.3", l="-0.7", r="0.6", restitution="0.9", damping="0.02",
+               wavenumber="2.1"),
 }
 DPS = 30
 
@@ -153,6 +157,20 @@ def test_the_certificate_refuses_a_backward_flight_that_meets_an_earlier_event()
         x0, v0 = HP.start(sc, T / 20, r, mpmath.mpf(3), 1)
         assert good.pieces > 0 and HP._inside(x0, good.x0, 50) and HP._inside(v0, good.v0, 50)
         HP.certify_flight(sc, T / 20, mpmath.mpf("0.2"), mpmath.mpf(0), -1)
+
+
+def test_an_event_state_on_a_wall_is_certified_from_the_wall_and_one_off_it_is_refused():
+    """The wall kinds are built on scene C whichever way its walls round (``l = -0.7`` rounds
+    outward at 30 digits); a point 1e-25 outside the gap is not a wall and is refused."""
+    sc = SCENES["C"]
+    cases, why = built("C")
+    assert {"grazing", "crossing_pair", "turn_at_wall"} <= {c.name for c in cases}, why
+    with mpmath.workdps(HP.CONSTRUCT_DPS):
+        l, T = sc.mpf("l"), 2 * mpmath.pi / sc.mpf("omega")
+        assert HP.wall_side(sc, l) == -1 and HP.wall_side(sc, sc.mpf("r")) == 1
+        assert HP.wall_side(sc, l - mpmath.mpf("1e-25")) == 0
+        with pytest.raises(ConstructionError, match="outside the gap"):
+            HP.certify_flight(sc, T / 20, l - mpmath.mpf("1e-25"), mpmath.mpf("-0.5"), -1)
 
 
 def test_a_case_is_refused_when_its_backward_flight_meets_a_wall(monkeypatch):

@@ -117,14 +117,20 @@ class Certificate:
     prec: int
 
 
-def event_functions(model, x_star, v_star, s):
+def wall_side(scene, x_star) -> int:
+    """``+1`` / ``-1`` when ``x*`` is the wall ``r`` / ``l`` (the scene's value at the current
+    mpmath precision, as the candidates are built), else 0."""
+    return next((side for side, name in ((1, "r"), (-1, "l")) if x_star == scene.mpf(name)), 0)
+
+
+def event_functions(model, on, v_star, s):
     """The forward flight's event functions in the reversed time ``u = t* - t`` (the stack of the
     reversed motion is ``[y, y', y'', ...]``, ``y' = -v``), each with the order of its structural
-    zero at ``u = 0``: the wall distances and, with friction, ``s v = -s y'``."""
+    zero at ``u = 0``: the wall distances (``on``: the wall ``x*`` is at, 0 for none) and, with
+    friction, ``s v = -s y'``."""
     fns = []
     for side in (1, -1):
-        on = x_star == model.wall(side)
-        fns.append(motion.distance(model, side, (1 if v_star != 0 else 2) if on else 0))
+        fns.append(motion.distance(model, side, (1 if v_star != 0 else 2) if on == side else 0))
     if model.friction:
         fns.append(motion.velocity(-s, 1 if v_star == 0 else 0))
     return fns
@@ -133,16 +139,23 @@ def event_functions(model, x_star, v_star, s):
 def certify_flight(scene, t_star, x_star, v_star, s, prec=CERT_PREC) -> Certificate:
     """Prove that the flight with sign ``s`` through the exact ``(t*, x*, v*)`` (mpf) meets no
     wall and (with friction) no ``v = 0`` on ``[0, t*)`` (module docstring); ``ConstructionError``
-    with the reason if it cannot be proved (e.g. the backward flight crosses a wall)."""
+    with the reason if it cannot be proved (e.g. the backward flight crosses a wall).
+
+    An ``x*`` on a wall starts the validated flight from the wall's own ball (the scene's exact
+    wall, a structural zero of its distance): the wall's mpf, rounded at the candidates'
+    precision, lies ~1e-31 inside or outside the exact wall, and outside it was refused as
+    "outside the gap" (every wall kind of a hidden scene with ``l = -0.7``)."""
+    on = wall_side(scene, x_star)
     with workprec(prec):
         model = BallModel(scene)
-        T, X, V = from_mpf(mpmath.mpf(t_star)), from_mpf(mpmath.mpf(x_star)), from_mpf(mpmath.mpf(v_star))
-        if not (X >= model.l and X <= model.r):
+        T, V = from_mpf(mpmath.mpf(t_star)), from_mpf(mpmath.mpf(v_star))
+        X = model.wall(on) if on else from_mpf(mpmath.mpf(x_star))
+        if not (on or (X >= model.l and X <= model.r)):
             raise ConstructionError(f"certificate refused: x* = {mpmath.nstr(x_star, 12)} is outside the gap")
         flight = lohner.ValidatedFlight(_ReversedBalls(model), -T, X, -V, s)
         pieces = 0
         try:
-            for fn in event_functions(model, x_star, v_star, s):
+            for fn in event_functions(model, on, v_star, s):
                 pieces += certify.exclude(flight, fn, arb(0), T, f"backward flight from t* = {T.mid().str(12)}")
             x0, yd0 = flight.state(T)
         except Unproved as exc:
