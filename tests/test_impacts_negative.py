@@ -365,6 +365,22 @@ def test_a_leg_whose_speed_ball_holds_only_some_orbits_speeds_is_refused(x1_poin
 
 
 @pytest.mark.sensitive
+def test_a_leg_whose_window_starts_on_the_wall_is_refused(x1_point):
+    """``leg`` asks ``x`` to be certainly *before* the wall at the window's start: a flight that
+    starts on ``r`` there (its ball at the start holds ``r``) is refused -- its crossing may be the
+    window's start itself, the impact it left -- while the same flight from ``0.01`` before ``r``
+    is a leg.  (Without the check on the start, only this test fails.)"""
+    box, _, _, _ = x1_point
+    with workprec(PREC):
+        p = I._params(box)
+        r, window = p[5], arb(1).union(arb("1.1"))
+        t0 = window.lower()                    # the window's start, exactly
+        speed = arb(1, 1)
+        assert I.leg(t0, r, arb(1), 1, r, window, speed, p) is None
+        assert I.leg(t0, r - arb("0.01"), arb(1), 1, r, window, speed, p) is not None
+
+
+@pytest.mark.sensitive
 def test_a_down_flight_past_l_is_refused(x1_point):
     """The down-flight from ``r`` reaches ``l`` at ``a + 2 pi``: flying to ``0.1`` past it would
     cross ``l`` (``x_end < l``, the velocity of one sign all along), refused; ``0.1`` before it,
