@@ -22,7 +22,8 @@ velocity ``v*`` just before, flight sign ``s`` -- and the flight through it is r
   into at ``t = 0``.
 
 A case is a *single flight* from ``t = 0`` to ``t*``: the certificate below says there is no
-other event before ``t*``.  Candidates are screened in float64 first (``construct_position``'s
+other event before ``t*`` (but ``impact_at_T`` on a gap too narrow for a flight of a whole
+period, which ``impact_at_t`` builds from rest through earlier events and proves forward).  Candidates are screened in float64 first (``construct_position``'s
 backward flight and grid certificate: cheap, and it only orders and drops candidates); the first
 ``MAX_TRIES`` that pass are tried in full:
 
@@ -56,7 +57,7 @@ import mpmath
 import numpy as np
 from flint import arb
 
-from cross_check.agreement import construct_position
+from cross_check.agreement import construct_position, impact_at_t
 from cross_check.agreement.case import CONSTRUCT_DPS, ConstructionError, HardCase, decimal_text
 from reference.enclosure import certify, lohner, motion
 from reference.enclosure.balls import BallModel, from_mpf, workprec
@@ -251,6 +252,9 @@ def _wall_kinds(scene, built, notes):
                            "t = T j/64")
             continue
         built[name], why = build(scene, name, candidates, kind, how)
+        if why and name == "impact_at_T":             # a narrow gap: through earlier events
+            built[name], more = impact_at_t.construct(scene, STATE_DIGITS)
+            why = more and f"{why}; {more}"
         if why:
             notes[name] = why
 

@@ -1,0 +1,143 @@
+"""``impact_at_T`` under position forcing where no single flight reaches it (issue 33).
+
+``hardcases_position`` builds its cases as one flight from ``t = 0`` to the event, run backward
+from the event state.  An impact at exactly ``t = T`` then needs a flight of a whole period with
+no other event; on a narrow gap (``r - l`` below about ``f T^2 / 2 + 2 F / w^2``) every such
+flight meets a wall or stops, and the kind was not admitted.  Here it is built forward, as an
+itinerary from rest, and certified by the forward proof of that itinerary:
+
+1. **screen** (fast, float64): ``N_SCAN`` starts from rest, ``x0 = l + (r - l) i / N_SCAN``,
+   ``v0 = 0``, each run over ``[0, 5T/4]``.  Two neighbours whose event logs agree up to an
+   impact at the same wall, one before ``T`` and one after, bracket a start whose impact is at
+   ``T`` exactly (the impact time is continuous in ``x0`` while the itinerary before it stays
+   the same);
+2. **refine** (the reference, ``REFINE_DPS`` digits): regula falsi (Illinois) on
+   ``h(x0) = t_j(x0) - T`` in that bracket, the itinerary before the impact held fixed (a change
+   is a ``ConstructionError``), at most ``MAX_REFINE`` runs, to ``|h| < 10^-(STATE_DIGITS + 3)``;
+   the start is ``x0`` to ``STATE_DIGITS`` digits, ``v0 = 0``;
+3. **certify**: ``reference.enclosure.enclose_map`` proves the start's itinerary over ``[0, T]``
+   forward, on validated flights (``reference.enclosure.lohner``): every other event excluded,
+   each event time in a ball.  A start it cannot prove is refused.
+
+fast only orders the candidates (a wrong screen costs a bracket, never a wrong case): the
+reference places the impact and the enclosure proves the itinerary.
+"""
+from __future__ import annotations
+
+import mpmath
+import numpy as np
+
+import fast
+import reference
+from cross_check.agreement.case import ConstructionError, HardCase, decimal_text
+from reference.enclosure import enclose_map
+
+#: starts from rest scanned across the gap by fast
+N_SCAN = 256
+#: digits of the reference's runs in the refinement
+REFINE_DPS = 40
+#: the refinement's bound on reference runs per bracket
+MAX_REFINE = 40
+#: brackets tried, nearest the middle of the gap first
+MAX_BRACKETS = 4
+#: kinds allowed before the impact at T (a chatter tail or contact has no isolated time)
+PREFIX_KINDS = frozenset({"impact", "turn", "stick", "slip"})
+
+
+def _brackets(scene):
+    """``[(x_a, x_b)]``: neighbouring starts from rest whose ``j``-th event is an impact at
+    the same wall, before ``T`` for one and after it for the other, with the same kinds
+    before it (step 1 of the module docstring)."""
+    l, r, T = scene.float("l"), scene.float("r"), scene.period
+    x = l + (r - l) * np.arange(1, N_SCAN) / N_SCAN
+    logs = fast.events(scene, x, np.zeros_like(x), 1.25 * T)
+    out = []
+    for i in range(len(x) - 1):
+        a, b = logs[i], logs[i + 1]
+        for j in range(min(len(a), len(b))):
+            ka, kb = [e.kind for e in a[:j + 1]], [e.kind for e in b[:j + 1]]
+            if ka != kb or not set(ka) <= PREFIX_KINDS:
+                break
+            same_wall = (abs(a[j].x - r) < abs(a[j].x - l)) == (abs(b[j].x - r) < abs(b[j].x - l))
+            if ka[j] == "impact" and same_wall and (a[j].t - T) * (b[j].t - T) < 0:
+                out.append((x[i], x[i + 1]))
+    mid = (l + r) / 2
+    return sorted(out, key=lambda c: abs(c[0] - mid))[:MAX_BRACKETS]
+
+
+def _impact_time(scene, x0, j, kinds, T):
+    """``t_j - T`` of the reference from rest at ``x0`` (mpf), its events up to ``j`` of the
+    ``kinds`` (the last an impact); ``ConstructionError`` if they changed."""
+    log = reference_trajectory(scene, x0, 1.25 * T)
+    got = [e.kind for e in log][:j + 1]
+    if got != kinds:
+        raise ConstructionError(f"the itinerary changed inside the bracket: {got} != {kinds}")
+    return log[j].t - T
+
+
+def reference_trajectory(scene, x0, t_end):
+    """The reference's event log from rest at ``x0`` over ``[0, t_end]``, at ``REFINE_DPS``."""
+    return reference.trajectory(scene, x0, mpmath.mpf(0), t_end, dps=REFINE_DPS)
+
+
+def _nearest_impact(log, T):
+    """Index of the impact of ``log`` nearest ``T`` (``None``: no impact)."""
+    impacts = [i for i, e in enumerate(log) if e.kind == "impact"]
+    return min(impacts, key=lambda i: abs(log[i].t - T)) if impacts else None
+
+
+def _refine(scene, xa, xb, T, digits):
+    """The start from rest in ``[xa, xb]`` whose impact nearest ``T`` (in the reference's log
+    from ``xa``: event ``j``) is at ``T`` (step 2).  Returns ``(x0, kinds, j)``."""
+    a, b = mpmath.mpf(xa), mpmath.mpf(xb)
+    log = reference_trajectory(scene, a, 1.25 * T)
+    j = _nearest_impact(log, T)
+    if j is None:
+        raise ConstructionError(f"the reference from rest at x0 = {xa!r} meets no wall")
+    kinds = [e.kind for e in log][:j + 1]
+    if not set(kinds) <= PREFIX_KINDS:
+        raise ConstructionError(f"the reference from rest at x0 = {xa!r} chatters or rests first: {kinds}")
+    ha, hb = log[j].t - T, _impact_time(scene, b, j, kinds, T)
+    if not ha * hb < 0:
+        raise ConstructionError(f"the reference does not bracket an impact at T in [{xa!r}, {xb!r}]")
+    side = 0
+    for _ in range(MAX_REFINE):
+        c = (a * hb - b * ha) / (hb - ha)
+        hc = _impact_time(scene, c, j, kinds, T)
+        if abs(hc) < mpmath.mpf(10) ** -(digits + 3):
+            return c, kinds, j
+        if hc * ha < 0:
+            b, hb = c, hc
+            ha, side = (ha / 2, -1) if side == -1 else (ha, -1)
+        else:
+            a, ha = c, hc
+            hb, side = (hb / 2, 1) if side == 1 else (hb, 1)
+    raise ConstructionError(f"no start with its impact within 1e-{digits + 3} of T after {MAX_REFINE} runs")
+
+
+def construct(scene, digits: int):
+    """``(HardCase, None)`` or ``(None, why)``: the kind ``impact_at_T`` from rest, through earlier
+    events (module docstring); ``digits``: the start's significant digits."""
+    brackets = _brackets(scene)
+    if not brackets:
+        return None, (f"nor from rest through earlier events: none of {N_SCAN - 1} starts from rest "
+                      f"brackets an impact at T")
+    why = ""
+    with mpmath.workdps(REFINE_DPS + 10):
+        T = 2 * mpmath.pi / scene.mpf("omega")
+        for xa, xb in brackets:
+            try:
+                x0, kinds, j = _refine(scene, xa, xb, T, digits)
+                x_text = decimal_text(x0, digits)
+                enc = enclose_map(scene, x_text, "0")
+                if not enc.proved:
+                    raise ConstructionError(f"the forward proof failed: {enc.reason}")
+            except ConstructionError as exc:
+                why = str(exc)
+                continue
+            path = ", ".join(kinds[:-1]) or "no earlier event"
+            return HardCase("impact_at_T", x_text, "0", decimal_text(T, digits), "impact",
+                            f"impact at a wall at exactly t = T, from rest through {path} (event {j + 1}); "
+                            f"certified: the itinerary proved forward (validated flights, enclose_map at "
+                            f"{enc.prec} bits: no other event on [0, T])"), None
+    return None, f"nor from rest through earlier events: {why}"
