@@ -19,6 +19,7 @@ import functools
 import mpmath
 import numpy as np
 import pytest
+from hypothesis import given, settings
 
 import reference
 from cross_check import golden
@@ -28,6 +29,7 @@ from cross_check.agreement.case import Case, ConstructionError
 from cross_check.tolerances import tol
 from reference.enclosure.maps import MapEnclosure
 from reference.scene import Scene
+from tests.strategies import position_forced_scenes
 
 SCENES = {
     "A": Scene(F=1, f="0.15", omega="1.7", l="-0.4", r="0.9", wavenumber="1.3"),
@@ -192,6 +194,26 @@ def test_impact_at_T_from_rest_needs_its_bracket_and_its_forward_proof(monkeypat
     monkeypatch.setattr(impact_at_t, "enclose_map", lambda *a, **k: MapEnclosure(False, "a failure, injected"))
     case, why = impact_at_t.construct(sc, HP.STATE_DIGITS)
     assert case is None and "the forward proof failed: a failure, injected" in why
+
+
+@settings(max_examples=4, deadline=None)
+@given(position_forced_scenes())
+def test_hard_cases_on_random_scenes_are_built_or_say_why_and_hold(sc):
+    """Every parameter and effect drawn: each kind is built or not admitted with its reason
+    (never an exception), and the reference, from each built start at 30 digits, meets the
+    case's event at its time: the first event of a single flight, or the impact nearest ``T``
+    of an ``impact_at_T`` from rest."""
+    cases, why = hardcases.construct(sc)
+    assert {c.name for c in cases} | set(why) == set(hardcases.NAMES), why
+    with mpmath.workdps(DPS + 10):
+        for c in cases:
+            if c.name not in ("impact_at_T", "sticking", "grazing", "crossing_pair"):
+                continue
+            t_star = mpmath.mpf(c.t_event)
+            log = reference.trajectory(sc, c.x, c.v, t_star * (1 + mpmath.mpf("1e-6")) + mpmath.mpf("1e-6"), dps=DPS)
+            near = min(log, key=lambda e: abs(e.t - t_star))
+            assert abs(near.t - t_star) < mpmath.mpf(10) ** -12, (c.name, c.how, list(log))
+            assert near.kind == ("stick" if c.name == "sticking" else "impact"), (c.name, list(log))
 
 
 def test_a_case_is_refused_when_its_backward_flight_meets_a_wall(monkeypatch):

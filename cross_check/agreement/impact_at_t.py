@@ -36,10 +36,11 @@ from reference.enclosure import enclose_map
 N_SCAN = 256
 #: digits of the reference's runs in the refinement
 REFINE_DPS = 40
-#: the refinement's bound on reference runs per bracket
-MAX_REFINE = 40
+#: the refinement's bound on reference runs per bracket (regula falsi takes ~10 from fast's
+#: bracket; the bound keeps a stalled one to a few seconds)
+MAX_REFINE = 24
 #: brackets tried, nearest the middle of the gap first
-MAX_BRACKETS = 4
+MAX_BRACKETS = 3
 #: kinds allowed before the impact at T (a chatter tail or contact has no isolated time)
 PREFIX_KINDS = frozenset({"impact", "turn", "stick", "slip"})
 
@@ -118,7 +119,10 @@ def _refine(scene, xa, xb, T, digits):
 def construct(scene, digits: int):
     """``(HardCase, None)`` or ``(None, why)``: the kind ``impact_at_T`` from rest, through earlier
     events (module docstring); ``digits``: the start's significant digits."""
-    brackets = _brackets(scene)
+    try:
+        brackets = _brackets(scene)
+    except (ValueError, RuntimeError) as exc:            # fast refused the scan: no candidates
+        return None, f"nor from rest through earlier events: fast's scan failed ({exc})"
     if not brackets:
         return None, (f"nor from rest through earlier events: none of {N_SCAN - 1} starts from rest "
                       f"brackets an impact at T")
@@ -132,7 +136,7 @@ def construct(scene, digits: int):
                 enc = enclose_map(scene, x_text, "0")
                 if not enc.proved:
                     raise ConstructionError(f"the forward proof failed: {enc.reason}")
-            except ConstructionError as exc:
+            except (ValueError, RuntimeError, ArithmeticError) as exc:   # ConstructionError among them
                 why = str(exc)
                 continue
             path = ", ".join(kinds[:-1]) or "no earlier event"
