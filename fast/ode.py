@@ -66,8 +66,8 @@ STEPS_PER_PERIOD = 128
 STEPS_PER_EVENT = 16
 OK, LOOP_BOUND, NON_FINITE = batch.OK, batch.LOOP_BOUND, batch.NON_FINITE
 #: slots of P
-F, FF, DAMP, K, W, E, L, R, T, T_LO, K_LO, W_LO, F_LO, FF_LO, DAMP_LO, E_LO, L_LO, R_LO = range(18)
-SIZE = 18
+F, FF, DAMP, K, W, E, L, R, T, T_LO, K_LO, W_LO, F_LO, FF_LO, DAMP_LO, E_LO, L_LO, R_LO, XS = range(19)
+SIZE = 19
 #: the flight's constants and their low parts, in ``fast.compensated.constants``' order
 DD_SLOTS = (F, F_LO, FF, FF_LO, DAMP, DAMP_LO, K, K_LO, W, W_LO, E, E_LO, L, L_LO, R, R_LO)
 #: modes of the loop, and the event codes of a flight
@@ -101,6 +101,7 @@ def params(scene):
                                (K, K_LO, "wavenumber"), (W, W_LO, "omega"), (E, E_LO, "restitution"),
                                (L, L_LO, "l"), (R, R_LO, "r")):
             P[slot], P[lo] = split_exact(scene.mpf(name) or mpmath.mpf(0))
+    P[XS] = max(abs(P[L]), abs(P[R]), P[R] - P[L])     # the positions' scale (their float resolution)
     return P
 
 
@@ -376,7 +377,7 @@ def _impact(P, st, ev, t, vb, t_end, jac):
         # the positions is summed whatever the estimate (which falls like delta^2 and would
         # reach a few ulp only at bounces ~1e-18 high: a turn within 16 eps of the wall ended
         # the run as a contact first, without its tail, 3e-7 early on scenes A and B of issue 33)
-        at_resolution = u * u / (2.0 * (s * A + f)) <= 64 * EPS * max(max(abs(P[L]), abs(P[R])), P[R] - P[L])
+        at_resolution = u * u / (2.0 * (s * A + f)) <= 64 * EPS * P[XS]
         if (err <= EPS * max(1.0, abs(t_end)) or at_resolution) and t + delta <= t_end:
             st[q.PATHS] = float(int(st[q.PATHS]) | q.PATH_CHATTER)
             record(ev, st, q.K_CHATTER, t + delta, wall, 0.0, 0.0, int(abs(st[q.CHN])))
@@ -404,7 +405,7 @@ def _velocity_zero(P, st, ev, t, x, jac):
     0``), a turn (``s A < -f``) or sticking.  Returns the new mode."""
     s, f = st[q.S], P[FF]
     st[q.ZV] = 1.0
-    tiny_x = 16 * EPS * max(max(abs(P[L]), abs(P[R])), P[R] - P[L])
+    tiny_x = 16 * EPS * P[XS]
     for side in (1.0, -1.0):
         if abs(x - (P[R] if side > 0.0 else P[L])) <= tiny_x:
             record(ev, st, q.K_CONTACT, t, P[R] if side > 0.0 else P[L], 0.0, 0.0, 0)

@@ -77,12 +77,17 @@ def test_fig_regs_is_proved_and_every_bound_holds_at_random_rest_states(fig_regs
     assert late_boxes(FIG_REGS, boxes, random.Random(35), 60) == []
 
 
+def _every_proved_bound_holds(scene, max_boxes, phase_boxes, seed, n):
+    """The cover's proved (non-stuck) boxes, ``n`` random rest states each against the reference."""
+    cov = cover(scene, max_boxes=max_boxes, phase_boxes=phase_boxes)
+    boxes = [b for b in proved_boxes(scene, cov) if not b["stuck"]]
+    assert late_boxes(scene, boxes, random.Random(seed), n) == []
+
+
 @settings(max_examples=8)
 @given(rest_scenes())
 def test_random_scenes_every_proved_bound_holds(scene):
-    cov = cover(scene, max_boxes=60, phase_boxes=8)
-    boxes = [b for b in proved_boxes(scene, cov) if not b["stuck"]]
-    assert late_boxes(scene, boxes, random.Random(1), 6) == []
+    _every_proved_bound_holds(scene, 60, 8, 1, 6)
 
 
 def test_a_shortened_bound_is_caught(monkeypatch):
@@ -276,6 +281,4 @@ def test_the_shipped_file_is_what_the_proofs_give(tmp_path):
 @settings(max_examples=60)
 @given(rest_scenes())
 def test_random_scenes_at_length(scene):
-    cov = cover(scene, max_boxes=600, phase_boxes=16)
-    boxes = [b for b in proved_boxes(scene, cov) if not b["stuck"]]
-    assert late_boxes(scene, boxes, random.Random(2), 20) == []
+    _every_proved_bound_holds(scene, 600, 16, 2, 20)

@@ -55,12 +55,11 @@ def _brackets(scene):
     out = []
     for i in range(len(x) - 1):
         a, b = logs[i], logs[i + 1]
-        for j in range(min(len(a), len(b))):
-            ka, kb = [e.kind for e in a[:j + 1]], [e.kind for e in b[:j + 1]]
-            if ka != kb or not set(ka) <= PREFIX_KINDS:
+        for ea, eb in zip(a, b):                       # the common prefix of the two itineraries
+            if ea.kind != eb.kind or ea.kind not in PREFIX_KINDS:
                 break
-            same_wall = (abs(a[j].x - r) < abs(a[j].x - l)) == (abs(b[j].x - r) < abs(b[j].x - l))
-            if ka[j] == "impact" and same_wall and (a[j].t - T) * (b[j].t - T) < 0:
+            same_wall = (abs(ea.x - r) < abs(ea.x - l)) == (abs(eb.x - r) < abs(eb.x - l))
+            if ea.kind == "impact" and same_wall and (ea.t - T) * (eb.t - T) < 0:
                 out.append((x[i], x[i + 1]))
     mid = (l + r) / 2
     return sorted(out, key=lambda c: abs(c[0] - mid))[:MAX_BRACKETS]
@@ -69,14 +68,14 @@ def _brackets(scene):
 def _impact_time(scene, x0, j, kinds, T):
     """``t_j - T`` of the reference from rest at ``x0`` (mpf), its events up to ``j`` of the
     ``kinds`` (the last an impact); ``ConstructionError`` if they changed."""
-    log = reference_trajectory(scene, x0, 1.25 * T)
+    log = _trajectory(scene, x0, 1.25 * T)
     got = [e.kind for e in log][:j + 1]
     if got != kinds:
         raise ConstructionError(f"the itinerary changed inside the bracket: {got} != {kinds}")
     return log[j].t - T
 
 
-def reference_trajectory(scene, x0, t_end):
+def _trajectory(scene, x0, t_end):
     """The reference's event log from rest at ``x0`` over ``[0, t_end]``, at ``REFINE_DPS``."""
     return reference.trajectory(scene, x0, mpmath.mpf(0), t_end, dps=REFINE_DPS)
 
@@ -91,7 +90,7 @@ def _refine(scene, xa, xb, T, digits):
     """The start from rest in ``[xa, xb]`` whose impact nearest ``T`` (in the reference's log
     from ``xa``: event ``j``) is at ``T`` (step 2).  Returns ``(x0, kinds, j)``."""
     a, b = mpmath.mpf(xa), mpmath.mpf(xb)
-    log = reference_trajectory(scene, a, 1.25 * T)
+    log = _trajectory(scene, a, 1.25 * T)
     j = _nearest_impact(log, T)
     if j is None:
         raise ConstructionError(f"the reference from rest at x0 = {xa!r} meets no wall")
