@@ -4,6 +4,10 @@
   ``prove_periodic`` always polishes its centre by Newton steps, so the displaced centre is
   posed one level down, to ``orbits._krawczyk`` (centre and radius given), which
   ``prove_periodic`` calls with the polished centre.
+* The last Newton step taken in mean-value form (``_krawczyk``'s ``ahead``: its residual from
+  the enclosure at the previous centre, no point log of its own; issue 33): an iterate more than
+  the box radius from the fixed point is refused, one a quarter of it away is proved with the
+  closed-form multipliers; a residual ball wider than the box is refused before any box walk.
 * A box wide enough to hold two fixed points (x1 and x2 near the fold ``f/F -> 2/pi``, one
   itinerary): refused by the public ``prove_periodic(..., radius=...)``.
 * The type comes from the multiplier enclosures only: the saddle handed over as if it were the
@@ -80,6 +84,64 @@ def test_a_centre_displaced_inside_the_ball_is_proved_and_encloses_the_fixed_poi
         moved = _krawczyk_at(sc, proof, R / 4, -R / 4)
         assert moved.proved and moved.kind == kind, moved.reason
         assert all(moved.point[i].overlaps(proof.point[i]) for i in range(2))
+
+
+def _ahead_at(sc, proof, dx, dv, r=R):
+    """``orbits._krawczyk`` with the enclosure at the proved fixed point's midpoint ``z`` and the
+    last Newton iterate (``ahead``: its residual taken in mean-value form over the box around
+    ``z``, no enclosure of its own) put at ``z + (dx, dv)``: ``Z`` is ``ahead +- r``."""
+    with workprec(PREC):
+        z = [proof.point[0].mid(), proof.point[1].mid()]
+        centre = enclose_map(sc, z[0], z[1], phase=proof.phase, prec=PREC, max_prec=PREC)
+        ahead = [(z[0] + dx).mid(), (z[1] + dv).mid()]
+        return orbits._krawczyk(sc, z, r, 1, proof.phase, PREC, centre, ahead)
+
+
+@pytest.mark.parametrize("kind", ["elliptic", "saddle"])
+@pytest.mark.parametrize("dx, dv", [(1.5, 0), (0, -1.5), (1.1, 1.1)])
+def test_a_last_newton_step_that_leaves_the_fixed_point_outside_its_box_is_refused(symmetric, kind, dx, dv):
+    """The mean-value last step (issue 33): ``Z`` around the iterate ``ahead``, more than ``r``
+    from the fixed point in one coordinate, does not hold it: refused, though the enclosure at
+    ``z`` (the fixed point itself) is as good as it gets."""
+    sc, proofs = symmetric
+    with workprec(PREC):
+        moved = _ahead_at(sc, proofs[kind], arb(dx) * R, arb(dv) * R)
+    assert not moved.proved and "K(Z) is not inside Z" in moved.reason, moved.reason
+
+
+@pytest.mark.parametrize("kind", ["elliptic", "saddle"])
+def test_a_last_newton_step_inside_the_box_is_proved_with_the_closed_form_multipliers(symmetric, kind):
+    """The true twin: ``ahead`` a quarter of ``r`` away; the point ball holds the proved one and
+    the multipliers (from ``P'`` over the box around ``z`` that holds ``K``) hold the closed
+    forms (``reference.paper``) to 1e-50."""
+    sc, proofs = symmetric
+    with workprec(PREC):
+        moved = _ahead_at(sc, proofs[kind], R / 4, -R / 4)
+        assert moved.proved and moved.kind == kind, moved.reason
+        assert all(moved.point[i].overlaps(proofs[kind].point[i]) for i in range(2))
+        with mpmath.workdps(60):
+            want = sorted(((w.real, abs(w.imag)) for w in
+                           paper.symmetric_solution(sc, 1 if kind == "elliptic" else 2, dps=60).multipliers()),
+                          key=lambda w: float(w[0]))
+        slack = arb(0, arb(10) ** -50)
+        if kind == "saddle":
+            got = sorted(moved.multipliers, key=lambda b: float(b.mid()))
+            assert all(b.overlaps(from_mpf(w[0]) + slack) for b, w in zip(got, want))
+        else:
+            (re, im), = moved.multipliers
+            assert re.overlaps(from_mpf(want[0][0]) + slack) and im.overlaps(from_mpf(want[0][1]) + slack)
+
+
+def test_a_residual_wider_than_the_box_is_refused_before_the_box_is_walked(symmetric):
+    """At 64 bits the enclosure of ``P(z) - z`` is ~1e-17 wide: no box of radius 1e-25 can hold
+    ``K``, which holds that residual (refused without walking the box); the default box of
+    64 bits is proved."""
+    sc, proofs = symmetric
+    x, v = (b.mid() for b in proofs["saddle"].point)
+    tiny = prove_periodic(sc, x, v, phase=proofs["saddle"].phase, prec=64, radius="1e-25")
+    assert not tiny.proved and "the residual alone" in tiny.reason, tiny.reason
+    fine = prove_periodic(sc, x, v, phase=proofs["saddle"].phase, prec=64)
+    assert fine.proved and fine.kind == "saddle", fine.reason
 
 
 def _fold_states():

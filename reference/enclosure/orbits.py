@@ -37,6 +37,10 @@ from reference.enclosure.params import ParamBox
 
 #: Newton steps on the midpoints before the proof (each one enclosure of ``P`` at a point).
 NEWTON_STEPS = 30
+#: The last Newton step is taken in mean-value form (no enclosure at the new centre) once it is
+#: at most ``r / STEP_SHARE``: the box it widens by that much, and the ``head`` term by about
+#: ``1 / STEP_SHARE`` of the Krawczyk tail (``_krawczyk``).
+STEP_SHARE = 4
 
 
 def _mat_sub_identity(J):
@@ -56,22 +60,30 @@ def _matvec(M, z):
     return [M[0][0] * z[0] + M[0][1] * z[1], M[1][0] * z[0] + M[1][1] * z[1]]
 
 
-def _newton(scene, z, periods, phase, prec):
-    """Polish ``z`` on midpoints: ``z <- z - (P' - I)^-1 (P(z) - z)``."""
+def _newton(scene, z, periods, phase, prec, r=None):
+    """Polish ``z`` on midpoints: ``z <- z - s``, ``s = (P' - I)^-1 (P(z) - z)``, one enclosure
+    of ``P`` at a point (a point log and a walk) per step.  Returns ``(z, enc, s)``: the last
+    centre, the enclosure there and the next iterate ``z - s`` computed from it but not
+    enclosed (``None`` if none: ``enc`` unproved or ``P' - I`` singular).  The loop ends once the step is at most
+    ``r / STEP_SHARE`` (``r``: the Krawczyk box's half-width) or within the enclosure's own
+    noise: ``_krawczyk`` then takes it in mean-value form over the box around ``z`` (issue 33:
+    the enclosure at ``z - s`` that only confirmed convergence cost a point log per proof)."""
+    small = None if r is None else r / STEP_SHARE
     for _ in range(NEWTON_STEPS):
         enc = enclose_map(scene, z[0], z[1], periods=periods, phase=phase, prec=prec,
                           max_prec=prec)
         if not enc.proved:
-            return z, enc
+            return z, enc, None
         M = _mid(_mat_sub_identity(enc.jacobian))
         if (M[0][0] * M[1][1] - M[0][1] * M[1][0]).is_zero():
-            return z, enc
+            return z, enc, None
         step = _matvec(_inverse(M), [enc.phi[0].mid() - z[0], enc.phi[1].mid() - z[1]])
         new = [(z[0] - step[0]).mid(), (z[1] - step[1]).mid()]
-        if new == z or all(abs(step[i]) <= 4 * enc.phi[i].rad() for i in range(2)):
-            return z, enc       # converged: the step is within the enclosure's own noise
+        if (new == z or all(abs(step[i]) <= 4 * enc.phi[i].rad() for i in range(2))
+                or (small is not None and all(abs(step[i]) <= small for i in range(2)))):
+            return z, enc, new      # converged: the step is within the noise, or small in the box
         z = new
-    return z, enc
+    return z, enc, None
 
 
 def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
@@ -103,23 +115,31 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
     with workprec(prec):
         if phase is None:
             phase, x, v = section(scene, x, v, periods, prec)
-        z, enc = _newton(scene, [from_number(x).mid(), from_number(v).mid()], periods, phase, prec)
         r = arb(2) ** (-(prec // 3)) if radius is None else from_number(radius)
-        proof = _krawczyk(scene, z, r, periods, phase, prec, enc)
+        z, enc, ahead = _newton(scene, [from_number(x).mid(), from_number(v).mid()], periods, phase,
+                                prec, r)
+        proof = _krawczyk(scene, z, r, periods, phase, prec, enc, ahead)
         proof.phase = phase
         proof.seconds = time.perf_counter() - start
         return proof
 
 
-def _krawczyk(scene, z, r, periods, phase, prec, enc_mid):
+def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None):
+    """The Krawczyk test on ``Z = z~ +- r`` with ``enc_mid`` the enclosure of ``P`` at the
+    point ``z``, and ``z~ = ahead`` (a last Newton step from ``z``, not enclosed) or ``z``.
+
+    Every enclosure is centred at ``z``, so the three share its point log (the point
+    integrator: most of a proof's time under position forcing, issue 33): the box ``B = z +-
+    (r + |z~ - z|)``, which holds ``Z`` and the segment ``[z, z~]``, gives ``P'(B)``, hence
+    ``F(z~) in F(z) + (P'(B) - I)(z~ - z)`` (mean value, ``F = P - id``) and the tail
+    ``(I - C (P'(B) - I))(Z - z~)``: Krawczyk's operator with ``P'`` enclosed over a box that
+    contains ``Z``, still a proof.  The multipliers come from ``P'`` over the box around ``z``
+    that holds ``K`` (the orbit's state; ``P'(B)`` if that fails), or over ``K`` itself (a
+    point log at its centre) when that box leaves the type undecided.  The test cannot pass if
+    ``C F(z)`` alone is wider than ``Z`` (``K`` holds it): then the box is not walked."""
     fail = OrbitProof(False, periods, prec=prec, radius=float(r))
     if not enc_mid.proved:
         fail.reason = f"Phi^{periods} at the centre is not proved: {enc_mid.reason}"
-        return fail
-    box = enclose_map(scene, z[0], z[1], periods=periods, phase=phase, x_radius=r, v_radius=r,
-                      prec=prec, max_prec=prec)
-    if not box.proved:
-        fail.reason = f"the itinerary is not proved constant on the box of radius {float(r):.1e}: {box.reason}"
         return fail
     M = _mid(_mat_sub_identity(enc_mid.jacobian))
     det_m = M[0][0] * M[1][1] - M[0][1] * M[1][0]
@@ -129,14 +149,34 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid):
         return fail
     C = arb_mat(_mid(_inverse(M)))
     head = C * arb_mat([[enc_mid.phi[0] - z[0]], [enc_mid.phi[1] - z[1]]])
-    K, inside = krawczyk(z, head, C, arb_mat(_mat_sub_identity(box.jacobian)), [r, r])
+    if any(head[i, 0].rad() > 2 * r for i in range(2)):     # rad K >= rad head > 2 r
+        fail.reason = (f"K(Z) is not inside Z (radius {float(r):.1e}): the residual alone, "
+                       f"|C (P(z) - z)|, has radii {[float(head[i, 0].rad()) for i in range(2)]}")
+        return fail
+    zt = z if ahead is None else ahead
+    d = [zt[0] - z[0], zt[1] - z[1]]
+    box = enclose_map(scene, z[0], z[1], periods=periods, phase=phase, x_radius=(r + abs(d[0])).upper(),
+                      v_radius=(r + abs(d[1])).upper(), prec=prec, max_prec=prec)
+    if not box.proved:
+        fail.reason = f"the itinerary is not proved constant on the box of radius {float(r):.1e}: {box.reason}"
+        return fail
+    DF = arb_mat(_mat_sub_identity(box.jacobian))
+    if ahead is not None:
+        head = head + C * (DF * arb_mat([[d[0]], [d[1]]]))
+    K, inside = krawczyk(zt, head, C, DF, [r, r])
     if not inside:
         fail.reason = (f"K(Z) is not inside Z (radius {float(r):.1e}): |K - z| = "
-                       f"{[float(abs(K[i] - z[i]).upper()) for i in range(2)]}")
+                       f"{[float(abs(K[i] - zt[i]).upper()) for i in range(2)]}")
         return fail
-    tight = enclose_map(scene, K[0].mid(), K[1].mid(), periods=periods, phase=phase,
-                        x_radius=K[0].rad(), v_radius=K[1].rad(), prec=prec, max_prec=prec)
-    return _multipliers(scene, K, periods, prec, r, enc_mid, tight if tight.proved else box)
+    kw = dict(periods=periods, phase=phase, prec=prec, max_prec=prec)
+    tight = enclose_map(scene, z[0], z[1], x_radius=abs(K[0] - z[0]).upper(),
+                        v_radius=abs(K[1] - z[1]).upper(), **kw)
+    proof = _multipliers(scene, K, periods, prec, r, enc_mid, tight if tight.proved else box)
+    if "not decided" in proof.stability and ahead is not None:     # K alone: a point log of its own
+        tight = enclose_map(scene, K[0].mid(), K[1].mid(), x_radius=K[0].rad(), v_radius=K[1].rad(), **kw)
+        if tight.proved:
+            proof = _multipliers(scene, K, periods, prec, r, enc_mid, tight)
+    return proof
 
 
 def _multipliers(scene, K, periods, prec, r, enc_mid, enc):
