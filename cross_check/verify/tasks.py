@@ -177,7 +177,7 @@ def _proof(label, sc, p, period, seg) -> dict:
             return prove(label, sc, p.x, p.v, k=period, segment=seg)
         phase, x, v = _section(sc, p.x, p.v, period)
         for prec, radius in PROOF_LADDER:
-            rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase)
+            rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase, narrow=False)
             if rec["proved"]:
                 return rec
         return rec
