@@ -143,7 +143,15 @@ def _segments(found, tol):
 #: and a proof at any precision is a proof (the box radius, in the report, says how tight).  A
 #: box too wide for one itinerary, or a centre that 64 bits cannot polish (multipliers ~1e3),
 #: climbs: measured on scene B's period-3 saddle, (64, 2^-32) fails, (96, 2^-48) proves in 1.2 s,
-#: where 320 bits takes 8.9 s.
+#: where 320 bits takes 8.9 s.  Second pass (issue 33, profiled on two unseen scenes, D and F of
+#: the issue): a rung was 2 to 4 point logs (each Newton step's enclosure, then the box's at the
+#: same centre, then the "tight" one around ``K``) and as many walks: 60% (F) to 70% (D) of a
+#: proof in point logs, the rest in walks.  ``prove_periodic`` now centres every enclosure of a
+#: rung on the last enclosed Newton iterate (its last step taken in mean-value form,
+#: ``orbits._krawczyk``): one point log a rung at 64 bits for fast's seeds, two at 96 bits and
+#: more (one more Newton step, or the multipliers over the orbit's own ball), and a rung whose
+#: residual ball alone is wider than its box (64 and 96 bits on D's period-3 orbits: 53 bits
+#: lost) fails before its box is walked.  Point logs (periods 1-3): D 53 -> 31, F 90 -> 51.
 PROOF_LADDER = ((64, 2.0 ** -32), (96, 2.0 ** -48), (128, 2.0 ** -64), (320, None))
 
 
@@ -177,7 +185,7 @@ def _proof(label, sc, p, period, seg) -> dict:
             return prove(label, sc, p.x, p.v, k=period, segment=seg)
         phase, x, v = _section(sc, p.x, p.v, period)
         for prec, radius in PROOF_LADDER:
-            rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase, narrow=False)
+            rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase)
             if rec["proved"]:
                 return rec
         return rec
@@ -188,7 +196,14 @@ def _proof(label, sc, p, period, seg) -> dict:
 def orbits(rec: dict, period: int, depth: Depth) -> list:
     """Period-``period`` orbits: found by Newton from a seed grid, deduplicated, classified,
     the first ``depth.max_proofs`` proved.  Each a dict (``as_dict`` of the point, ``dissip``,
-    ``sticks``, the proof record or why none was attempted)."""
+    ``sticks``, the proof record or why none was attempted).
+
+    Where the time goes (issue 33, CPU seconds of periods 1 + 2 + 3, one run each, on a loaded
+    2-core machine): on D (``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``) 48.4 -> 36.4 s,
+    of which the Newton search in fast ~9 s (5,000 seed maps a period, unchanged) and the
+    proofs 39.0 -> 27.5 s (point logs 27.2 -> 17.2 s, walks ~12 -> 10 s); on F (``F=1 f=0.2
+    omega=1 l=-1 r=1 wavenumber=1``) 26.0 -> 17.7 s.  The same orbits, classified the same,
+    proved at the same rung, each point ball overlapping the one before (``PROOF_LADDER``)."""
     import fast
 
     sc = scenes.scene(scene_of(rec))

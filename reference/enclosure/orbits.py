@@ -94,7 +94,7 @@ def _newton(scene, z, periods, phase, prec, small=None):
 
 
 def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
-                   prec=DEFAULT_PREC, narrow=True) -> OrbitProof:
+                   prec=DEFAULT_PREC) -> OrbitProof:
     """Prove a fixed point of ``Phi^periods`` near ``(x, v)`` (numbers as in ``enclose_map``).
 
     ``phase`` (rational in ``[0, 1)``) takes the section ``t = phase T`` instead of ``t = 0``
@@ -102,11 +102,7 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
     orbit is the same, the fixed point is its state at that phase); ``None`` (default) picks
     it in the longest stretch between events (``(x, v)`` is then the state at ``t = 0``).  ``radius``: the
     half-width of the box (default ``2^(-prec/3)``: wide enough to hold the fixed point after
-    Newton, narrow enough that the wrapping of a long itinerary stays small).  ``narrow``
-    (default): the multipliers over a ball about as narrow as the fixed point's (``_typed``);
-    False: over the box around the last enclosed centre that holds it when that decides the
-    type (``|P''|`` times the last Newton step wider, no point log more: ``verify``, whose
-    report prints four digits).
+    Newton, narrow enough that the wrapping of a long itinerary stays small).
 
     ``scene`` may be a :class:`~reference.enclosure.params.ParamBox`: the proof then holds for
     every parameter of the box (``reference.enclosure.boxes``: the state boxes are found by
@@ -122,8 +118,6 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
             from reference.enclosure.boxes import prove_periodic_box  # boxes builds on this module
             return prove_periodic_box(scene, x, v, periods=periods, phase=phase, prec=prec)
     check_count("periods", periods, 1)
-    if not isinstance(narrow, bool):
-        raise TypeError(f"narrow must be True or False, got {narrow!r}")
     start = time.perf_counter()
     with workprec(prec):
         if phase is None:
@@ -132,17 +126,17 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
         small = r / STEP_SHARE
         z, enc, ahead = _newton(scene, [from_number(x).mid(), from_number(v).mid()], periods, phase,
                                 prec, r * WIDE)
-        proof = _krawczyk(scene, z, r, periods, phase, prec, enc, ahead, narrow)
+        proof = _krawczyk(scene, z, r, periods, phase, prec, enc, ahead)
         if (not proof.proved and ahead is not None and NOISY not in proof.reason
                 and not all(abs(ahead[i] - z[i]) <= small for i in range(2))):
             z, enc, ahead = _newton(scene, ahead, periods, phase, prec, small)    # a box of r
-            proof = _krawczyk(scene, z, r, periods, phase, prec, enc, ahead, narrow)
+            proof = _krawczyk(scene, z, r, periods, phase, prec, enc, ahead)
         proof.phase = phase
         proof.seconds = time.perf_counter() - start
         return proof
 
 
-def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, narrow=True):
+def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None):
     """The Krawczyk test on ``Z = z~ +- r`` with ``enc_mid`` the enclosure of ``P`` at the
     point ``z``, and ``z~ = ahead`` (a last Newton step from ``z``, not enclosed) or ``z``.
 
@@ -184,24 +178,20 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, narrow=Tru
         fail.reason = (f"K(Z) is not inside Z (radius {float(r):.1e}): |K - z| = "
                        f"{[float(abs(K[i] - zt[i]).upper()) for i in range(2)]}")
         return fail
-    return _typed(scene, K, z, periods, phase, prec, r, enc_mid, box, narrow)
+    return _typed(scene, K, z, periods, phase, prec, r, enc_mid, box)
 
 
-def _typed(scene, K, z, periods, phase, prec, r, enc_mid, box, narrow):
-    """The proof with its multipliers and type, from ``P'`` over the box around the enclosed
-    centre ``z`` that holds ``K`` (the orbit's state; ``z``'s point log serves) if ``K`` is
-    near ``z`` (``|mid K - z| <= NEAR rad K``: as narrow as ``K``'s own ball, within a factor
-    ``NEAR + 1``) or ``narrow`` is False and that decides the type; else over ``K``'s own ball
-    (a point log of its own); ``P'(B)`` (``box``) if the walk fails."""
+def _typed(scene, K, z, periods, phase, prec, r, enc_mid, box):
+    """The proof with its multipliers and type, from ``P'`` over a box that holds ``K`` (the
+    orbit's state): around the enclosed centre ``z`` if ``K`` is near it (``|mid K - z| <= NEAR
+    rad K``: ``z``'s point log serves, the box at most ``NEAR + 1`` times as wide as ``K``), else
+    ``K`` itself (a point log of its own); ``P'(B)`` (``box``) if that walk fails."""
     kw = dict(periods=periods, phase=phase, prec=prec, max_prec=prec)
-    near = all(abs(K[i].mid() - z[i]) <= NEAR * K[i].rad() for i in range(2))
-    if near or not narrow:
+    if all(abs(K[i].mid() - z[i]) <= NEAR * K[i].rad() for i in range(2)):
         tight = enclose_map(scene, z[0], z[1], x_radius=abs(K[0] - z[0]).upper(),
                             v_radius=abs(K[1] - z[1]).upper(), **kw)
-        proof = _multipliers(scene, K, periods, prec, r, enc_mid, tight if tight.proved else box)
-        if near or "not decided" not in proof.stability:
-            return proof
-    tight = enclose_map(scene, K[0].mid(), K[1].mid(), x_radius=K[0].rad(), v_radius=K[1].rad(), **kw)
+    else:
+        tight = enclose_map(scene, K[0].mid(), K[1].mid(), x_radius=K[0].rad(), v_radius=K[1].rad(), **kw)
     return _multipliers(scene, K, periods, prec, r, enc_mid, tight if tight.proved else box)
 
 
