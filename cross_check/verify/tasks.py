@@ -151,7 +151,7 @@ def _segments(found, tol):
 #: ``orbits._krawczyk``): one point log a rung at 64 bits for fast's seeds, two at 96 bits and
 #: more (one more Newton step, or the multipliers over the orbit's own ball), and a rung whose
 #: residual ball alone is wider than its box (64 and 96 bits on D's period-3 orbits: 53 bits
-#: lost) fails before its box is walked.  Point logs (periods 1-3): D 53 -> 31, F 90 -> 51.
+#: lost) fails before its box is walked.  Point logs (periods 1-3): D 53 -> 32, F 90 -> 53.
 PROOF_LADDER = ((64, 2.0 ** -32), (96, 2.0 ** -48), (128, 2.0 ** -64), (320, None))
 
 
@@ -199,10 +199,10 @@ def orbits(rec: dict, period: int, depth: Depth) -> list:
     ``sticks``, the proof record or why none was attempted).
 
     Where the time goes (issue 33, CPU seconds of periods 1 + 2 + 3, one run each, on a loaded
-    2-core machine): on D (``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``) 48.4 -> 36.4 s,
+    2-core machine): on D (``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``) 48.4 -> 36.0 s,
     of which the Newton search in fast ~9 s (5,000 seed maps a period, unchanged) and the
-    proofs 39.0 -> 27.5 s (point logs 27.2 -> 17.2 s, walks ~12 -> 10 s); on F (``F=1 f=0.2
-    omega=1 l=-1 r=1 wavenumber=1``) 26.0 -> 17.7 s.  The same orbits, classified the same,
+    proofs 39.0 -> 27.9 s (point logs 27.2 -> 17.7 s, walks 11.8 -> 10.2 s); on F (``F=1 f=0.2
+    omega=1 l=-1 r=1 wavenumber=1``) 26.0 -> 17.4 s.  The same orbits, classified the same,
     proved at the same rung, each point ball overlapping the one before (``PROOF_LADDER``)."""
     import fast
 
