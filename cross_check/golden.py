@@ -136,6 +136,7 @@ def compute(sc, case, dps: int) -> dict:
         with mpmath.workdps(dps):
             out["events"] = [compare.Event(e.kind, +e.t, +e.x, +e.v, None if e.v_before is None else +e.v_before,
                                            e.count) for e in log]
+        out["points"] = (log, (model.l, model.r))   # the point log an enclosure may be guided by
     return out
 
 
@@ -266,11 +267,19 @@ def proved_values(sc, case):
     half-order proof 13; a dps-50 run takes 12, a full-derivative proof 18."""
     if not sc.has("position_forcing"):
         return None, None
-    enc = golden_proof.position_proof(sc, case)
-    if not enc.proved or enc.rel_radius() > tol("golden_enclosure_floor").rtol:
-        return None, enc
     res = compute(sc, case, PROVED_DPS)
+    enc = golden_proof.position_proof(sc, case, res["points"])
     return (res, enc) if outside_proof(res, enc, sc) is None else (None, enc)
+
+
+def input_proof(sc, case, dps=None) -> dict:
+    """The proof record of an input as ``case_entry`` made it (``prove --golden`` makes it again):
+    an input whose values came from ``proved_values`` (its ``dps`` is ``PROVED_DPS``) was proved
+    on that run's point log, any other one by ``golden_proof.enclosure`` alone."""
+    first = None
+    if dps == PROVED_DPS and sc.has("position_forcing"):
+        first = golden_proof.position_proof(sc, case, compute(sc, case, PROVED_DPS)["points"])
+    return golden_proof.enclosure(sc, case, first)
 
 
 def case_entry(sc, case) -> dict:
@@ -286,7 +295,7 @@ def case_entry(sc, case) -> dict:
     for label, inp in inputs.items():
         res, enc = proved_values(sc, inp)
         if res is None:
-            res, check = compute(sc, inp, GOLDEN_DPS), compute(sc, inp, CHECK_DPS)
+            res, check, enc = compute(sc, inp, GOLDEN_DPS), compute(sc, inp, CHECK_DPS), None
             why = disagreement(res, check, sc)
             if why is not None:
                 raise GoldenError(f"{sc.name} / {case.name} / {label}: dps {GOLDEN_DPS} vs {CHECK_DPS}: {why}")

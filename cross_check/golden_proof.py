@@ -40,12 +40,13 @@ def ball_record(ball) -> list:
 ENCLOSURE_PREC_POSITION = 192
 
 
-def position_proof(sc, case):
+def position_proof(sc, case, points=None):
     """The first proof of a position-forced input: ``ENCLOSURE_PREC_POSITION`` bits, the flights'
-    ``Phi'`` to the working precision (``full_derivative``: what ``proved_values`` needs)."""
+    ``Phi'`` to the working precision (``full_derivative``: what ``proved_values`` needs);
+    ``points``: a point log of the input to guide it (``enclose_map``), e.g. ``golden.compute``'s."""
     x, v = _proof_start(case)
     return enclose_map(sc, x, v, prec=ENCLOSURE_PREC_POSITION, max_prec=ENCLOSURE_PREC_POSITION,
-                       full_derivative=True)
+                       full_derivative=True, points=points)
 
 
 def _proof_start(case):
