@@ -18,15 +18,16 @@ A golden directory is self-describing: each file records its scene's exact param
   form (kind, t, x, v after, v before); for float64 inputs, ``band``: whether
   the reference's itinerary flips under a ``compare_band_ulps`` move (``compare.reference_in_band``);
 
-* ``enclosure``: the proof (``reference.enclosure.enclose_map``): ``proved`` and, if so, balls
-  ``[mid, radius]`` that provably contain ``Phi`` and ``Phi'`` (``ENCLOSURE_DIGITS``-digit
-  midpoints, radii rounded up and widened to ``golden_enclosure_floor``: a superset of a proved
-  ball is proved), ``radius`` the relative radius actually proved for ``Phi`` and ``prec`` the
-  bits it took; else ``reason``, why no proof holds;
+* ``enclosure``: the proof (``cross_check.golden_proof``): ``proved`` and balls that provably
+  contain ``Phi`` and ``Phi'``, or ``reason``, why no proof holds;
 
 every number from ``reference`` at ``GOLDEN_DPS`` digits, written with ``DIGITS`` significant
 digits, after checking that a run at ``GOLDEN_DPS + 20`` digits agrees to those digits
-(tolerance ``golden_self_agreement``) and has the same itinerary.  If any check fails, nothing
+(tolerance ``golden_self_agreement``) and has the same itinerary.  Under position forcing an
+input's numbers come from a run at ``PROVED_DPS`` digits instead when its proof (which every
+input gets anyway, here with ``Phi'`` to the working precision) puts each written number within
+``golden_proved_agreement`` of the truth (``proved_values``; its record says ``"dps": 50``): a
+proof in place of the agreement, at a third of the cost (issue 33).  If any check fails, nothing
 is written (``GoldenError``).  Provenance (mpmath version and backend, dps, the scene's exact
 parameters, how each state was made) is recorded; the date is not, so that regenerating gives
 byte-identical files (keys in a fixed order, a list of scalars per line: ``dumps``).
@@ -38,24 +39,19 @@ import json
 import math
 import pathlib
 import sys
-from fractions import Fraction
 
 import mpmath
 
 from cross_check.agreement import compare
-from cross_check import outputs, scenefile, scenes
+from cross_check import golden_proof, outputs, scenefile, scenes
 from cross_check.progress import Progress
 from cross_check.tolerances import tol
-from reference.enclosure import enclose_map
-from reference.enclosure.balls import decimal_ball, radius_text, workprec
 
 GOLDEN_DPS = 90
 CHECK_DPS = GOLDEN_DPS + 20
 DIGITS = 40
 N_SAMPLE = 8
 FORMAT = 2
-#: Significant digits of an enclosure's midpoint (its rounding is added to the radius).
-ENCLOSURE_DIGITS = 50
 DEFAULT_DIR = pathlib.Path(__file__).resolve().parent / "data" / "golden"   # where `golden` writes in a checkout
 
 
@@ -140,6 +136,7 @@ def compute(sc, case, dps: int) -> dict:
         with mpmath.workdps(dps):
             out["events"] = [compare.Event(e.kind, +e.t, +e.x, +e.v, None if e.v_before is None else +e.v_before,
                                            e.count) for e in log]
+        out["points"] = (log, (model.l, model.r))   # the point log an enclosure may be guided by
     return out
 
 
@@ -223,81 +220,107 @@ def record(sc, res: dict) -> dict:
     }
 
 
-def ball_record(ball) -> list:
-    """``[mid, radius]`` strings of a ball that contains ``ball`` and is at least
-    ``golden_enclosure_floor`` wide (at the current arb precision)."""
-    floor = tol("golden_enclosure_floor")
-    mid, radius = decimal_ball(ball, ENCLOSURE_DIGITS)
-    return [mid, radius_text(max(radius, floor.rtol * abs(float(mid)) + floor.atol))]
+#: digits of a position-forced input's point run whose values its proof certifies
+#: (``proved_values``) in place of the dps 90 / 110 pair
+PROVED_DPS = 50
 
 
-#: bits of a first, cheaper proof under position forcing (issue 33: the validated Taylor steps
-#: cost ~p^2, p = prec ln 2 / 2; at 192 bits a proof of ``Phi`` to ~1e-53 takes half the time of
-#: 320 bits, ample for ``golden_enclosure_floor``); a proof wider than the floor is redone the
-#: usual way (from ``DEFAULT_PREC`` up), as near grazing, where a period loses ~40 digits
-ENCLOSURE_PREC_POSITION = 192
-
-
-def enclosure(sc, case) -> dict:
-    """The proof record of one input (see the module docstring)."""
-    x, v = (float(case.x), float(case.v)) if case.exact == "float64" else (case.x, case.v)
+def outside_proof(res: dict, enc, sc) -> str | None:
+    """Why the point run ``res`` is not certified by the proof ``enc`` of the same input, or
+    ``None``: ``enc`` proved within ``golden_enclosure_floor``, the same canonical itinerary, the
+    Jacobian defined in both, and every value ``a`` that ``record`` writes (``Phi``, the events'
+    ``t, x, v, v-``, ``Phi'``) with its whole ball within ``golden_proved_agreement`` of it:
+    ``|b - a| <= rtol max(1, |a|)`` for every ``b`` of the ball (times ``kappa`` for ``Phi'``, as
+    the self-check) -- the true value, which the ball holds, is then that close to ``a``: what the
+    dps-110 run establishes by agreement, here by proof."""
     floor = tol("golden_enclosure_floor").rtol
-    enc = None
-    if sc.has("position_forcing"):
-        enc = enclose_map(sc, x, v, prec=ENCLOSURE_PREC_POSITION, max_prec=ENCLOSURE_PREC_POSITION)
-        enc = enc if enc.proved and enc.rel_radius() <= floor else None
-    enc = enc or enclose_map(sc, x, v, rel_radius=floor)
     if not enc.proved:
-        return {"proved": False, "reason": enc.reason}
-    with workprec(enc.prec):
-        return {"proved": True, "radius": radius_text(enc.rel_radius()), "prec": enc.prec,
-                "phi": [ball_record(b) for b in enc.phi],
-                "jacobian": [[ball_record(b) for b in row] for row in enc.jacobian]}
+        return f"not proved: {enc.reason}"
+    if enc.rel_radius() > floor:
+        return f"proved Phi {enc.rel_radius():.1e} wide, above golden_enclosure_floor {floor:g}"
+    balls = {"phi": enc.phi, "jacobian": enc.jacobian,
+             "events": [compare.Event(e.kind, e.t, e.x, e.v, e.v_before, e.count) for e in enc.events]}
+    a, b = {**res, "events": compare.canonical(res["events"], sc)}, {**balls, "events": compare.canonical(balls["events"], sc)}
+    if [e.kind for e in a["events"]] != [e.kind for e in b["events"]]:
+        return f"itineraries differ: {[e.kind for e in a['events']]} vs proved {[e.kind for e in b['events']]}"
+    if (a["jacobian"] is None) != (b["jacobian"] is None):
+        return "Jacobian defined in one of the point run and the proof only"
+    rtol, k = tol("golden_proved_agreement").rtol, kappa(sc, res)
+    for jac, scale in ((False, 1.0), (True, k)):
+        values, balls = _values(a, jac), _values(b, jac)
+        if len(values) != len(balls):
+            return "the proof's events carry other values than the point run's"
+        for value, ball in zip(values, balls):
+            if not golden_proof.ball_within(value, ball, rtol * scale):
+                return f"value {mpmath.nstr(value, 45)} not within {rtol * scale:g} of all of its proved ball {ball}"
+    return None
 
 
-#: bits of the proof that settles ``band`` at once (a box of a few ulps needs no more)
-BAND_PREC = 128
+def proved_values(sc, case):
+    """``(res, enc)``: a position-forced input's values from one ``PROVED_DPS`` run, certified by
+    its proof (``outside_proof``), or ``(None, enc or None)`` where that does not hold -- then the
+    dps 90 / 110 pair decides, as for every other effect.
+
+    Issue 33, measured on an unseen scene (``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``, 24
+    inputs, one run): the dps 90 and 110 runs took 34 and 48 of the golden task's 104 CPU s (the
+    variational columns and the mpf conversions of the Taylor steps, ``reference.taylor``), the
+    half-order proof 13; a dps-50 run takes 12, a full-derivative proof 18."""
+    if not sc.has("position_forcing"):
+        return None, None
+    res = compute(sc, case, PROVED_DPS)
+    enc = golden_proof.position_proof(sc, case, res["points"])
+    return (res, enc) if outside_proof(res, enc, sc) is None else (None, enc)
 
 
-def band(sc, case) -> bool:
-    """``compare.reference_in_band`` (the reference's itinerary flips under a move of
-    ``compare_band_ulps`` ulps), settled first by a proof: if ``enclose_map`` proves one itinerary
-    for every start of the box that holds all the moves (cut to the gap), none flips (issue 33:
-    the six moved runs of the reference were a quarter of a position-forced input's cost; the
-    proof costs a fifth of them).  Where no proof holds (near grazing) the moves are run."""
-    X, V = case.float()
-    k = int(tol("compare_band_ulps").rtol)
-    R = sc.float("r") - sc.float("l")
-    ux = math.ulp(max(abs(X), R)) * k
-    uv = math.ulp(max(abs(V), max(sc.float("F"), sc.float("f")) / sc.float("omega"))) * k
-    lo, hi = max(Fraction(X) - Fraction(ux), sc.exact("l")), min(Fraction(X) + Fraction(ux), sc.exact("r"))
-    enc = enclose_map(sc, (lo + hi) / 2, Fraction(V), x_radius=(hi - lo) / 2, v_radius=Fraction(uv),
-                      prec=BAND_PREC, max_prec=BAND_PREC)
-    return False if enc.proved else compare.reference_in_band(sc, case)
+def input_proof(sc, case, dps=None) -> dict:
+    """The proof record of an input as ``case_entry`` made it (``prove --golden`` makes it again):
+    an input whose values came from ``proved_values`` (its ``dps`` is ``PROVED_DPS``) was proved
+    on that run's point log, any other one by ``golden_proof.enclosure`` alone."""
+    first = None
+    if dps == PROVED_DPS and sc.has("position_forcing"):
+        first = golden_proof.position_proof(sc, case, compute(sc, case, PROVED_DPS)["points"])
+    return golden_proof.enclosure(sc, case, first)
 
 
 def case_entry(sc, case) -> dict:
     """The golden record of one state of interest (every input of it), after the self-check
-    (``GoldenError`` names the scene, the case and the input whose two runs disagree)."""
+    (``GoldenError`` names the scene, the case and the input whose two runs disagree).  Under
+    position forcing an input's values may come from ``proved_values`` instead (``"dps"``: 50 in
+    its record; the proof checks every written value)."""
     inputs = {"exact": case}
     if case.exact == "decimal":
         inputs["float64"] = case.rounded()
     entry = {"name": case.name, "exact": case.exact, "x": case.x, "v": case.v, "how": case.how,
              "constructed_kind": case.kind or None, "t_event": case.t_event or None, "inputs": {}}
     for label, inp in inputs.items():
-        res, check = compute(sc, inp, GOLDEN_DPS), compute(sc, inp, CHECK_DPS)
-        why = disagreement(res, check, sc)
-        if why is not None:
-            raise GoldenError(f"{sc.name} / {case.name} / {label}: dps {GOLDEN_DPS} vs {CHECK_DPS}: {why}")
-        entry["inputs"][label] = {"x": inp.x, "v": inp.v, **record(sc, res)}
+        res, enc = proved_values(sc, inp)
+        if res is None:
+            res, check, enc = compute(sc, inp, GOLDEN_DPS), compute(sc, inp, CHECK_DPS), None
+            why = disagreement(res, check, sc)
+            if why is not None:
+                raise GoldenError(f"{sc.name} / {case.name} / {label}: dps {GOLDEN_DPS} vs {CHECK_DPS}: {why}")
+            entry["inputs"][label] = {"x": inp.x, "v": inp.v, **record(sc, res)}
+        else:
+            entry["inputs"][label] = {"x": inp.x, "v": inp.v, "dps": PROVED_DPS, **record(sc, res)}
         if inp.exact == "float64":
-            entry["inputs"][label]["band"] = band(sc, inp)
-        entry["inputs"][label]["enclosure"] = enclosure(sc, inp)
+            entry["inputs"][label]["band"] = golden_proof.band(sc, inp)
+        entry["inputs"][label]["enclosure"] = golden_proof.enclosure(sc, inp, enc)
     return entry
 
 
 def document(sc, cases: list, n_sample: int = N_SAMPLE, generator: str = "python -m cross_check golden") -> dict:
     """The golden file of a scene from its case entries (``case_entry``), with the provenance."""
+    doc = _document(sc, cases, n_sample, generator)
+    if sc.has("position_forcing"):
+        doc["provenance"]["proved_values"] = (
+            f"an input with \"dps\": {PROVED_DPS} has its values from a dps-{PROVED_DPS} run, every "
+            "written number of which its enclosure (192 bits, Phi' to the working precision) "
+            "proves within golden_proved_agreement (1e-40; Phi' x kappa) of the true value, in "
+            f"place of the dps-{CHECK_DPS} run; the others: dps {GOLDEN_DPS} checked at {CHECK_DPS}")
+    return doc
+
+
+def _document(sc, cases, n_sample, generator) -> dict:
     return {
         "format": FORMAT,
         "scene": scene_record(sc),

@@ -61,7 +61,8 @@ columns and by the tests); rounding is controlled by the guard bits (not by inte
 arithmetic): ``~N^2 2^-(prec+GUARD_BITS)`` per step, below the truncation target.
 
 A flight is used by ``reference.model.Model`` (``make_flight``) for every scene with
-``position_forcing``: ``reference.events`` locates its events with the bounds below.
+``position_forcing``: ``reference.events`` locates its events with the bounds below, its
+far-from-root safe steps in float64 (``evaluate_float``: ``reference.taylor_float``).
 
 Order: a step costs ``a N^2 + b`` (``~2 N^2`` fixed-point multiplications, ``b`` the
 step choice and conversions) and advances ``h ~ rho exp(-L/(N+1))`` with
@@ -82,7 +83,9 @@ import math
 from operator import mul
 
 import mpmath
-from mpmath.libmp import from_int, mpf_add, mpf_mul, mpf_shift
+from mpmath.libmp import from_int, mpf_mul, mpf_shift
+
+from reference import taylor_float
 
 #: bits carried beyond the working precision in the recurrences and the dense output
 GUARD_BITS = 32
@@ -157,14 +160,14 @@ def series_fixed(prm, t0, x0, v0, s, N, h, P, variational=False):
     rounding of ``2^-P`` per operation costs at most ``~N^2 2^-P`` in a term ``x_n tau^n``:
     ``P = prec + GUARD_BITS`` keeps it far below the truncation bound.  Python's integers
     make this ~20x faster than mpf arithmetic.  Returns ``(xs, cols)`` as ``series`` does:
-    the unscaled ``x_0 .. x_{N+1}`` (mpf, current precision, for ``_horner`` in ``tau``) and
+    the unscaled ``x_0 .. x_{N+1}`` (mpf, current precision) and
     the variational columns or ``None``.  Scaled variational series: ``DX_n = dx_n h^n``,
     ``DV_n = dv_n h^(n+1)``, ``DX_{n+1} = DV_n/(n+1)``,
     ``DV_{n+1} = (h^2 (B~*DX)_n - c h DV_n)/(n+1)`` with ``B~ = -F k (S~*P~)``.
     """
     X, S, Pn = _main_fixed(prm, t0, x0, v0, s, N, h, P)
     out = _unscale(X, P, 1 / h, mpmath.mpf(1))
-    return out, (_variational_fixed(prm, S, Pn, N, h, P) if variational else None)
+    return out, (_columns(_variational_fixed(prm, S, Pn, N, h, P), P, h) if variational else None)
 
 
 def _main_fixed(prm, t0, x0, v0, s, N, h, P):
@@ -194,9 +197,10 @@ def _main_fixed(prm, t0, x0, v0, s, N, h, P):
 
 
 def _variational_fixed(prm, S, Pn, N, h, P):
-    """The variational columns of ``series_fixed`` from the step's ``S~``, ``P~``."""
+    """The variational columns of ``series_fixed`` from the step's ``S~``, ``P~``: the scaled
+    ``(DX, DV)`` of each column, ints (``_columns`` unscales them)."""
     F, f, c, k, w = prm
-    one, ch, hinv, Fkh2 = 1 << P, _fix(c * h, P), 1 / h, -_fix(F * k * h * h, P)
+    one, ch, Fkh2 = 1 << P, _fix(c * h, P), -_fix(F * k * h * h, P)
     Bh2 = [(Fkh2 * (sum(map(mul, S[:n + 1], reversed(Pn[:n + 1]))) >> P)) >> P for n in range(N)]
     cols = []
     for DX, DV in (([one], [0]), ([0], [_fix(h, P)])):
@@ -204,8 +208,14 @@ def _variational_fixed(prm, S, Pn, N, h, P):
             DX.append(DV[n] // (n + 1))
             DV.append(((sum(map(mul, Bh2[:n + 1], reversed(DX[:n + 1]))) >> P)
                        - ((ch * DV[n]) >> P)) // (n + 1))
-        cols += [_unscale(DX, P, hinv, mpmath.mpf(1)), _unscale(DV, P, hinv, hinv)]
+        cols += [DX, DV]
     return tuple(cols)
+
+
+def _columns(scaled, P, h):
+    """``series_fixed``'s unscaled columns ``(dx1, dv1, dx2, dv2)`` from the scaled ints."""
+    hinv = 1 / h
+    return tuple(_unscale(Z, P, hinv, mpmath.mpf(1) if i % 2 == 0 else hinv) for i, Z in enumerate(scaled))
 
 
 def _unscale(Z, P, hinv, scale):
@@ -217,6 +227,21 @@ def _unscale(Z, P, hinv, scale):
         out.append(mpmath.mp.make_mpf(mpf_mul(mpf_shift(from_int(z), -P), s, prec, rnd)))
         s = mpf_mul(s, h, prec, rnd)
     return out
+
+
+def _fixed_horner(Z, sig, P):
+    """``sum Z_n sigma^n`` in ``P``-bit fixed point (``Z`` scaled ints, ``sig = sigma 2^P``,
+    ``0 <= sigma <= 1``): each of the ``N`` steps rounds by at most ``2^-P`` of the scaled
+    quantity's unit, so the sum is good to ``~N 2^-P`` -- below the recurrences' own rounding
+    (``series_fixed``).  Issue 33: the event search evaluates the step polynomials thousands of
+    times a period; mpf Horner steps (a rounded product and sum each) were a third of a
+    reference run's CPU under position forcing, integer ones cost a tenth of that."""
+    if sig == 1 << P:
+        return sum(Z)
+    acc = Z[-1]
+    for z in reversed(Z[:-1]):
+        acc = ((acc * sig) >> P) + z
+    return acc
 
 
 def _enclosure(fl, v0abs, rho):
@@ -268,23 +293,6 @@ def choose_step(fl, v0abs, N, bits, variational=True):
     return step_certificate(fl, v0abs, N, bits, variational)["h"]
 
 
-def _horner(coeffs, tau):
-    """``sum coeffs[n] tau^n`` by Horner's rule at the current precision: the very roundings of
-    ``acc * tau + a`` on mpf (``mpf_mul``, ``mpf_add`` with the context's precision and
-    rounding), on the raw values (issue 33: the event search evaluates the step polynomial
-    thousands of times a period, and the mpf operators' dispatch was half of it)."""
-    tau = mpmath.mpf(tau)
-    prec, rnd = mpmath.mp._prec_rounding
-    t, acc = tau._mpf_, coeffs[-1]._mpf_
-    for a in reversed(coeffs[:-1]):
-        acc = mpf_add(mpf_mul(acc, t, prec, rnd), a._mpf_, prec, rnd)
-    return mpmath.mp.make_mpf(acc)
-
-
-def _deriv(coeffs):
-    return [n * a for n, a in enumerate(coeffs)][1:]
-
-
 class TaylorFlight:
     """One flight with friction sign ``s`` from ``(t0, x0, v0)`` by certified Taylor steps.
 
@@ -323,10 +331,13 @@ class TaylorFlight:
             eps * (1 + abs(x0) + abs(v0)), eps * (1 + abs(v0)), eps * (1 + self.prm[0] + self.prm[1]))
         self._starts = [t0]
         self._state0 = [(x0, v0)]           # state at each step start
-        self._steps = []                    # (h, xs, vs)
+        self._steps = []                    # (h, X, V): the scaled ints of x and v h
         self._kept = []                     # the recurrence's (S~, P~) per step, for the columns
         self._bound_at = (None, None)       # (ta, v(ta)) of the last event bound
+        self._last = (None, None, None)     # (t, x, v) of the last ``state``: see ``state``
         self._cols = []                     # variational polynomials per step (lazy)
+        self._floats = []                   # float64 step polynomials (``evaluate_float``, lazy)
+        self._fprm = self._fl + (float(s),) + (float(self.noise_x), float(self.noise_v))
         self._jac0 = [mpmath.eye(2)]        # flight matrix at each step start (lazy)
 
     # -- stepping ----------------------------------------------------------------------
@@ -336,28 +347,41 @@ class TaylorFlight:
             raise RuntimeError(f"taylor: more than {MAX_STEPS} steps (t={self._starts[-1]}, "
                                f"x, v={self._state0[-1]}, mode=flight s={self.s})")
         with mpmath.workprec(self.iprec):
+            self._last = (None, None, None)     # a new step: a state at its start may read otherwise
             t, (x, v) = self._starts[i], self._state0[i]
             h = mpmath.mpf(choose_step(self._fl, abs(float(v)), self.order,
                                        self.prec + EXTRA_BITS, True))
             X, S, Pn = _main_fixed(self.prm, t, x, v, self.s, self.order, h, self.iprec)
-            xs = _unscale(X, self.iprec, 1 / h, mpmath.mpf(1))
-            vs = _deriv(xs)
-            self._steps.append((h, xs, vs))
+            V = [(n + 1) * X[n + 1] for n in range(len(X) - 1)]      # the scaled series of v h
+            self._steps.append((h, X, V))
             self._kept.append((S, Pn))
             self._starts.append(t + h)
-            self._state0.append((_horner(xs, h), _horner(vs, h)))
+            self._state0.append(self._pair(X, V, h, 1 << self.iprec))
+
+    def _pair(self, Z, W, h, sig):
+        """``(z, w / h)`` at ``sigma`` (``sig = sigma 2^P``) from the scaled ints ``Z``, ``W``
+        (``_fixed_horner``), as mpf at the internal precision."""
+        P = self.iprec
+        z = mpmath.ldexp(mpmath.mpf(_fixed_horner(Z, sig, P)), -P)
+        w = mpmath.ldexp(mpmath.mpf(_fixed_horner(W, sig, P)), -P)
+        return z, w / h
+
+    def _sigma(self, tau, h):
+        """``tau / h`` in ``P``-bit fixed point."""
+        return _fix(tau / h, self.iprec)
 
     def _variational_upto(self, i):
         with mpmath.workprec(self.iprec):
             while len(self._cols) <= i:
                 j = len(self._cols)
-                cols = _variational_fixed(self.prm, *self._kept[j], self.order, self._steps[j][0], self.iprec)
+                h = self._steps[j][0]
+                cols = _variational_fixed(self.prm, *self._kept[j], self.order, h, self.iprec)
                 self._cols.append(cols)
-                self._jac0.append(self._step_matrix(cols, self._steps[j][0]) * self._jac0[j])
+                self._jac0.append(self._step_matrix(cols, h, 1 << self.iprec) * self._jac0[j])
 
-    @staticmethod
-    def _step_matrix(cols, tau):
-        dx1, dv1, dx2, dv2 = (_horner(p, tau) for p in cols)
+    def _step_matrix(self, cols, h, sig):
+        dx1, dv1 = self._pair(cols[0], cols[1], h, sig)
+        dx2, dv2 = self._pair(cols[2], cols[3], h, sig)
         return mpmath.matrix([[dx1, dx2], [dv1, dv2]])
 
     def _locate(self, t):
@@ -373,14 +397,27 @@ class TaylorFlight:
 
     # -- the flight interface ----------------------------------------------------------
     def state(self, t):
-        """``(x(t), v(t))`` at the working precision."""
-        i, tau = self._locate(t)
+        """``(x(t), v(t))`` at the working precision.
+
+        The last ``(t, x, v)`` is kept (until the next Taylor step): the event search asks the
+        state at each probe twice -- ``evaluate`` and the event bound's ``v(ta)`` (``_bounds``)
+        at the same ``t`` -- and the two Horner evaluations were half of its cost (issue 33:
+        two ten-period maps at 40 digits of an unseen position-forced scene, 10.8 -> 8.5 CPU s; the
+        same values, bit for bit: a kept state is one this very computation gave, and a new
+        step clears it)."""
         with mpmath.workprec(self.iprec):
-            if i < len(self._steps):
-                _, xs, vs = self._steps[i]
-                x, v = _horner(xs, tau), _horner(vs, tau)
-            else:
-                x, v = self._state0[i]
+            key = mpmath.mpf(t)._mpf_
+        if self._last[0] == key:
+            x, v = self._last[1], self._last[2]
+        else:
+            i, tau = self._locate(t)
+            with mpmath.workprec(self.iprec):
+                if i < len(self._steps):
+                    h, X, V = self._steps[i]
+                    x, v = self._pair(X, V, h, self._sigma(tau, h))
+                else:
+                    x, v = self._state0[i]
+            self._last = (key, x, v)
         return +x, +v
 
     def _accel(self, x, v, t):
@@ -401,6 +438,25 @@ class TaylorFlight:
             a = self._accel(x, v, mpmath.mpf(t))
         return x, v, +a
 
+    def evaluate_float(self, h):
+        """float64 ``(x, v, a, a', ex, ev, ea, ea')`` at ``t_start + h`` (``h`` a float, taken
+        exactly) with rigorous absolute error bounds (``reference.taylor_float``): the event
+        search's far-from-root safe steps (``reference.flows``' optional accelerator; issue 33:
+        the two ten-period maps of ``state``'s note, 8.5 -> 6.6 CPU s, the same events)."""
+        with mpmath.workprec(self.iprec):
+            t = self.t_start + mpmath.mpf(h)
+        i, tau = self._locate(t)
+        if i >= len(self._steps):               # t = t_start before any step
+            self._take_step()
+            i, tau = self._locate(t)
+        while len(self._floats) <= i:
+            h, X, V = self._steps[len(self._floats)]
+            self._floats.append(taylor_float.step_floats(X, V, self.iprec, h))
+        F, f, c, k, w, s, nx, nv = self._fprm
+        with mpmath.workprec(self.iprec):
+            sigma = tau / self._steps[i][0]
+        return taylor_float.evaluate((F, f, c, k, w), s, (nx, nv), self._floats[i], sigma, t)
+
     def jerk(self, t, x, v, a):
         """``a' = A_t + A_x v - c a = -F w cos(kx) sin(wt) - F k sin(kx) cos(wt) v - c a``."""
         with mpmath.workprec(self.iprec):
@@ -417,7 +473,8 @@ class TaylorFlight:
             self._variational_upto(i)
         with mpmath.workprec(self.iprec):
             if i < len(self._steps):
-                m = self._step_matrix(self._cols[i], tau) * self._jac0[i]
+                h = self._steps[i][0]
+                m = self._step_matrix(self._cols[i], h, self._sigma(tau, h)) * self._jac0[i]
             else:
                 m = self._jac0[i]
         return mpmath.matrix([[+m[0, 0], +m[0, 1]], [+m[1, 0], +m[1, 1]]])

@@ -8,7 +8,7 @@ For every kind on two unseen scenes (``A``: no damping, no restitution; ``B``: b
 * the reference, integrating forward from the decimal state, finds the constructed event first,
   at the constructed time (to what the state's 30 digits allow), as the certificate says;
 * fast, on the float64 rounding, finds the reference's first event (from the same rounding) at
-  its time, outside the near-grazing band (``golden.band``);
+  its time, outside the near-grazing band (``golden_proof.band``);
 * the certificate refuses an event state whose backward flight meets a wall or ``v = 0`` before
   ``t = 0``, and accepts the states the construction certified.
 """
@@ -22,7 +22,7 @@ import pytest
 from hypothesis import given, settings
 
 import reference
-from cross_check import golden
+from cross_check import golden, golden_proof
 from cross_check.agreement import compare, hardcases, impact_at_t
 from cross_check.agreement import hardcases_position as HP
 from cross_check.agreement.case import Case, ConstructionError
@@ -124,7 +124,7 @@ def test_fast_finds_the_reference_events_outside_the_band(name):
     problems = []
     for i, c in enumerate(cases):
         fc = Case(c.name, repr(float(X[i])), repr(float(V[i])), "float64", c.how)
-        if golden.band(sc, fc):
+        if golden_proof.band(sc, fc):
             continue
         ref_log = compare.ref_events(sc, fc, None, DPS)
         ref = compare.canonical(ref_log, sc)

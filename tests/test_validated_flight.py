@@ -188,3 +188,25 @@ def test_budgets_and_bad_input_say_so():
             ValidatedFlight(m, arb(0), arb(0), arb(1), 0)
         with pytest.raises(ValueError, match="position forcing"):
             ValidatedFlight(BallModel(Scene(F=1, f="0.1", omega=1, l=0, r=1)), arb(0), arb(0), arb(1), 1)
+
+
+def test_the_full_derivative_carries_phi_prime_to_the_working_precision():
+    """``full_derivative`` (issue 33): the flow derivative's series of the state's order and its
+    remainder below ``2^-prec``: at 192 bits the flight matrix over a period holds the point
+    reference at 60 digits in balls within ``golden_proved_agreement`` / 1e3 (what lets a golden
+    input's proof certify 40 digits of ``Phi'`` with room for kappa), where half the order --
+    the default, whose balls the check must refuse -- is some 20 digits wider."""
+    bound = tol("golden_proved_agreement").rtol / 1e3
+    with workprec(192):
+        m = BallModel(OTHER)
+        u = m.T
+        (_, _), Jr = _point(OTHER, 0, "0.1", "0.8", 1, 1, 60, periods=True)
+        widest = {}
+        for full in (True, False):
+            fl = ValidatedFlight(m, arb(0), from_number("0.1"), from_number("0.8"), 1, full_derivative=full)
+            D = fl.derivative(u)
+            assert all(inside(D[i][j], Jr[i, j]) for i in range(2) for j in range(2)), (full, D, Jr)
+            widest[full] = max(float(D[i][j].rad()) / max(1, abs(float(D[i][j].mid())))
+                               for i in range(2) for j in range(2))
+    assert widest[True] <= bound, widest
+    assert widest[False] > bound * 1e10, widest

@@ -19,7 +19,7 @@ was the *point* integrator -- the Taylor flights of the Newton steps, the box an
 flights a fourth, and six more runs for the band), scorecards and agreement 11 (the same
 ten-period truths three times).  Now: the proofs climb a precision ladder from 64 bits with the
 section from fast (``tasks.PROOF_LADDER``); ``golden.compute`` takes map, events and Jacobian from
-one integration, ``golden.band`` settles the band by one proof, ``golden.enclosure`` proves at
+one integration, ``golden_proof.band`` settles the band by one proof, ``golden_proof.enclosure`` proves at
 192 bits first; the agreement reads the reference's answers from the golden data; both scorecards
 run in one task; ``reference.taylor`` keeps each step's recurrence for the variational columns
 and evaluates its polynomials on raw mpf values (every golden byte unchanged).  The hard cases

@@ -82,7 +82,14 @@ def velocity_range(sc) -> float:
 
 # ------------------------------------------------------------------------------ the tasks
 def states(rec: dict, depth: Depth) -> dict:
-    """The states of interest and the hard-case notes."""
+    """The states of interest and the hard-case notes.
+
+    Where the time goes under position forcing (issue 33, unseen scene D: ``F=3 f=0.5 omega=0.8
+    l=-2 r=1.5 wavenumber=2.5``, 9.7 CPU s before): ``impact_at_t``'s refinement (reference
+    runs from rest at 40 digits) 4.7, ``hardcases_position``'s float64 screen 3.0, the forward
+    proof of ``impact_at_T`` (``enclose_map``) 1.1, the validated backward flights 0.7.  The
+    reference's faster event search (``reference.taylor_float``, a kept state) takes it to 8.4,
+    the same cases and notes."""
     name = scene_of(rec)
     return {"cases": scenes.states_of_interest(name, depth.n_sample), "notes": scenes.hard_case_notes(name)}
 
@@ -230,7 +237,12 @@ def orbits(rec: dict, period: int, depth: Depth) -> list:
 
 
 def portrait(rec: dict, orbit_parts: list, depth: Depth) -> bytes:
-    """The scene's portrait as PNG bytes (``verify.portrait``), with the orbits of every period."""
+    """The scene's portrait as PNG bytes (``verify.portrait``), with the orbits of every period.
+
+    Under position forcing it is ``fast``'s work (scene D of ``states``: 8.6 CPU s, of which the
+    120 x 120 pixels' Jacobians 7.2 -- ~0.5 ms a state-period in the compensated flights of
+    ``fast.ode`` -- and the orbits 0.7; loading the compiled kernels 0.2: a second portrait in
+    the same process takes 8.2)."""
     from cross_check.verify import portrait as draw
 
     sc = scenes.scene(scene_of(rec))
@@ -241,7 +253,12 @@ def scorecards(rec: dict, golden_file: dict, adapters: tuple, depth: Depth) -> d
     """``{adapter: (scorecard, CPU seconds)}``: ``scorecard`` for each adapter in turn, in one
     process, so that the reference's ten-period truths (``score.card._ten_periods``: the same
     states for every adapter, half of a scorecard's cost under position forcing) are computed
-    once (``compare.ref_map`` keeps its recent results)."""
+    once (``compare.ref_map`` keeps its recent results).
+
+    Under position forcing nearly all of it is those truths (scene D of ``states``: 10.5 of
+    11.6 CPU s, two reference runs of ten periods at 40 digits; the adapters run in their own
+    processes); the reference's event search with float64 far-from-root steps and a kept state
+    (``reference.taylor``) takes the task to 7.0 CPU s, the same cards start for start."""
     import time
 
     out = {}

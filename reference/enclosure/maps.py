@@ -124,7 +124,7 @@ def _box(value, radius, name):
 
 def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, phase=0, prec=DEFAULT_PREC,
                 max_prec=MAX_PREC, rel_radius=None, max_events=MAX_EVENTS,
-                parameters=(), centred=False) -> MapEnclosure:
+                parameters=(), centred=False, full_derivative=False, points=None) -> MapEnclosure:
     """Enclose ``Phi^periods`` and its derivative over the box ``x +- x_radius``,
     ``v +- v_radius`` (numbers as in ``reference.stroboscopic_map``: int, float, decimal str,
     Fraction, mpf, or an arb ball for ``x``, ``v``).  ``phase`` (a rational in ``[0, 1)``, as
@@ -145,6 +145,13 @@ def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, phase=0, prec
     box (``reference.enclosure.sensitivity``; flights, impacts and turns only).  ``centred``
     encloses ``Phi'`` (and ``dparams``) in mean-value form over the event data
     (``reference.enclosure.centred``): much tighter over a wide box, the same over a point.
+    ``full_derivative`` (position forcing): the validated flights carry their flow derivative
+    to the working precision, not to about half of it (``reference.enclosure.lohner``: ~1.4x
+    the cost; what a proof of ``Phi'`` to 40 digits at 192 bits needs).  ``points``: the point
+    integrator's log of this very map (``(log, (l, r))``: ``reference.integrator.integrate``'s
+    ``EventLog`` and the walls its model held), made by the caller at any precision, in place of
+    the one made here (a third of a position-forced proof's cost); as that one, it only guides
+    the walk, which proves every event from the balls.
     """
     _check(scene, periods, prec, max_prec, max_events)
     if isinstance(scene, ParamBox) and scene.is_point:
@@ -156,7 +163,7 @@ def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, phase=0, prec
             X, V = _box(x, x_radius, "x"), _box(v, v_radius, "v")
             try:
                 best = _prove(scene, X, V, phase, periods, prec, max_events, tuple(parameters),
-                              centred)
+                              centred, full_derivative, points)
             except Unproved as exc:
                 last = str(exc)
         if best is not None and (rel_radius is None or best.rel_radius() <= rel_radius):
@@ -177,12 +184,13 @@ def _phase(phase):
     return value
 
 
-def _prove(scene, X, V, phase, periods, prec, max_events, parameters=(), centred=False):
+def _prove(scene, X, V, phase, periods, prec, max_events, parameters=(), centred=False,
+           full_derivative=False, given=None):
     model = _ball_model(scene, prec)
-    points, walls = _point_log(scene, X.mid(), V.mid(), phase, periods, prec, max_events)
+    points, walls = given or _point_log(scene, X.mid(), V.mid(), phase, periods, prec, max_events)
     t0 = model.T * from_fraction(phase)
     t_end = t0 + from_fraction(periods) * model.T
-    walk = Walk(model, points, t_end, walls)
+    walk = Walk(model, points, t_end, walls, full_derivative)
     log = walk.run(t0, X, V)
     J = product_of_table1(FlightFactors(model, walk.flights) if walk.flights else model, log)
     if not all(b.is_finite() for row in J for b in row):

@@ -86,8 +86,9 @@ def chatter_tail(m, t, side, u):
 class Walk:
     """One walk: the point log ``points`` re-proved from balls ``(t0, x0, v0)`` to ``t_end``."""
 
-    def __init__(self, model, points, t_end, point_walls):
+    def __init__(self, model, points, t_end, point_walls, full_derivative=False):
         self.m, self.points, self.t_end = model, list(points), t_end
+        self.full_derivative = full_derivative   # flights' Phi' to the working precision (lohner)
         self.point_t0 = points.t0
         self.point_walls = point_walls          # (l, r) as the point integrator holds them
         self.i = 0
@@ -183,7 +184,8 @@ class Walk:
         m = self.m
         if not m.position_forcing:
             return motion.Flight(m, self.t, self.x, self.v, self.s)
-        flight = lohner.ValidatedFlight(m, self.t, self.x, self.v, self.s)
+        flight = lohner.ValidatedFlight(m, self.t, self.x, self.v, self.s,
+                                        full_derivative=self.full_derivative)
         self.flights[id(self.t)] = flight
         return flight
 

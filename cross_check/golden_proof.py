@@ -1,0 +1,100 @@
+"""The proofs of golden inputs (``cross_check.golden``): each input's enclosure record and the
+band flag, settled by ``reference.enclosure.enclose_map``.
+
+* ``enclosure``: ``proved`` and, if so, balls ``[mid, radius]`` that provably contain ``Phi`` and
+  ``Phi'`` (``ENCLOSURE_DIGITS``-digit midpoints, radii rounded up and widened to
+  ``golden_enclosure_floor``: a superset of a proved ball is proved), ``radius`` the relative
+  radius actually proved for ``Phi`` and ``prec`` the bits it took; else ``reason``.  Under
+  position forcing the first proof is ``position_proof`` (192 bits, ``Phi'`` to the working
+  precision), whose balls also certify the values of ``golden.proved_values``;
+* ``band``: whether the reference's itinerary flips under a move of ``compare_band_ulps`` ulps,
+  settled by one proof over the box of the moves where one holds;
+* ``ball_within``: the test that a whole ball lies within a relative distance of a value.
+"""
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+from cross_check.agreement import compare
+from cross_check.tolerances import tol
+from reference.enclosure import enclose_map
+from reference.enclosure.balls import decimal_ball, from_mpf, radius_text, workprec
+
+#: Significant digits of an enclosure's midpoint (its rounding is added to the radius).
+ENCLOSURE_DIGITS = 50
+
+
+def ball_record(ball) -> list:
+    """``[mid, radius]`` strings of a ball that contains ``ball`` and is at least
+    ``golden_enclosure_floor`` wide (at the current arb precision)."""
+    floor = tol("golden_enclosure_floor")
+    mid, radius = decimal_ball(ball, ENCLOSURE_DIGITS)
+    return [mid, radius_text(max(radius, floor.rtol * abs(float(mid)) + floor.atol))]
+
+
+#: bits of a first, cheaper proof under position forcing (issue 33: the validated Taylor steps
+#: cost ~p^2, p = prec ln 2 / 2; at 192 bits a proof of ``Phi`` to ~1e-53 takes half the time of
+#: 320 bits, ample for ``golden_enclosure_floor``); a proof wider than the floor is redone the
+#: usual way (from ``DEFAULT_PREC`` up), as near grazing, where a period loses ~40 digits
+ENCLOSURE_PREC_POSITION = 192
+
+
+def position_proof(sc, case, points=None):
+    """The first proof of a position-forced input: ``ENCLOSURE_PREC_POSITION`` bits, the flights'
+    ``Phi'`` to the working precision (``full_derivative``: what ``proved_values`` needs);
+    ``points``: a point log of the input to guide it (``enclose_map``), e.g. ``golden.compute``'s."""
+    x, v = _proof_start(case)
+    return enclose_map(sc, x, v, prec=ENCLOSURE_PREC_POSITION, max_prec=ENCLOSURE_PREC_POSITION,
+                       full_derivative=True, points=points)
+
+
+def _proof_start(case):
+    return (float(case.x), float(case.v)) if case.exact == "float64" else (case.x, case.v)
+
+
+def enclosure(sc, case, first=None) -> dict:
+    """The proof record of one input (see the module docstring); ``first``: its
+    ``position_proof`` if already made (under position forcing that proof comes first, and is
+    kept if it is within ``golden_enclosure_floor``: ``prove --golden`` makes it again)."""
+    x, v = _proof_start(case)
+    floor = tol("golden_enclosure_floor").rtol
+    enc = first
+    if enc is None and sc.has("position_forcing"):
+        enc = position_proof(sc, case)
+    enc = enc if enc is not None and enc.proved and enc.rel_radius() <= floor else None
+    enc = enc or enclose_map(sc, x, v, rel_radius=floor)
+    if not enc.proved:
+        return {"proved": False, "reason": enc.reason}
+    with workprec(enc.prec):
+        return {"proved": True, "radius": radius_text(enc.rel_radius()), "prec": enc.prec,
+                "phi": [ball_record(b) for b in enc.phi],
+                "jacobian": [[ball_record(b) for b in row] for row in enc.jacobian]}
+
+
+#: bits of the proof that settles ``band`` at once (a box of a few ulps needs no more)
+BAND_PREC = 128
+
+
+def band(sc, case) -> bool:
+    """``compare.reference_in_band`` (the reference's itinerary flips under a move of
+    ``compare_band_ulps`` ulps), settled first by a proof: if ``enclose_map`` proves one itinerary
+    for every start of the box that holds all the moves (cut to the gap), none flips (issue 33:
+    the six moved runs of the reference were a quarter of a position-forced input's cost; the
+    proof costs a fifth of them).  Where no proof holds (near grazing) the moves are run."""
+    X, V = case.float()
+    k = int(tol("compare_band_ulps").rtol)
+    R = sc.float("r") - sc.float("l")
+    ux = math.ulp(max(abs(X), R)) * k
+    uv = math.ulp(max(abs(V), max(sc.float("F"), sc.float("f")) / sc.float("omega"))) * k
+    lo, hi = max(Fraction(X) - Fraction(ux), sc.exact("l")), min(Fraction(X) + Fraction(ux), sc.exact("r"))
+    enc = enclose_map(sc, (lo + hi) / 2, Fraction(V), x_radius=(hi - lo) / 2, v_radius=Fraction(uv),
+                      prec=BAND_PREC, max_prec=BAND_PREC)
+    return False if enc.proved else compare.reference_in_band(sc, case)
+
+
+def ball_within(value, ball, rtol) -> bool:
+    """Every point of ``ball`` within ``rtol max(1, |value|)`` of ``value`` (``value`` mpf)."""
+    with workprec(256):                  # outward rounding: any precision is rigorous
+        d = abs(ball - from_mpf(value))
+        return bool(d.upper() <= rtol * max(1.0, abs(float(value))))

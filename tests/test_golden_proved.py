@@ -1,0 +1,151 @@
+"""Golden data under position forcing: values from a dps-50 run that the input's proof certifies
+(``cross_check.golden.proved_values``, issue 33), in place of the dps 90 / 110 pair.
+
+The route is held to the pair's result: on a state of ``fig:xpotno`` and of a scene that is
+not shipped, every written string equals the one the dps 90 / 110 route writes.  The check
+``outside_proof`` is seen to refuse: a value moved by more than ``golden_proved_agreement``,
+a Jacobian entry moved beyond it times kappa, a ball too wide to pin 40 digits though it holds
+the value, another itinerary, a Jacobian that only one side has, a proof wider than
+``golden_enclosure_floor``, an unproved input.  A refused input falls back to the pair, whose
+disagreement still stops the file.
+"""
+from __future__ import annotations
+
+import copy
+
+import mpmath
+import pytest
+from flint import arb
+
+from cross_check import golden, scenes
+from cross_check.agreement import compare
+from cross_check.tolerances import tol
+from reference.enclosure.balls import from_mpf, workprec
+from reference.scene import Scene
+
+#: a scene of the family that is not shipped (issue 33's second scene), with every effect
+UNSHIPPED = Scene(F=2, f="0.3", omega="1.2", l=-1, r=1, restitution="0.8", damping="0.05", wavenumber="0.7",
+                  name="test: unshipped position-forced")
+
+
+def _sample(sc, i=0):
+    return scenes.sample_states(scenes.register(sc) if sc.name not in scenes.SCENES else sc.name, golden.N_SAMPLE)[i]
+
+
+@pytest.fixture(scope="module")
+def xpot():
+    sc = scenes.scene("fig:xpotno")
+    case = _sample(sc, 6)                      # two turns in the period (fast and the golden file)
+    res, enc = golden.proved_values(sc, case)
+    assert res is not None, "the proved route did not hold on fig:xpotno's sample 6"
+    assert len(compare.canonical(res["events"], sc)) == 2 and res["jacobian"] is not None
+    return sc, case, res, enc
+
+
+@pytest.mark.parametrize("which", ["fig:xpotno", "unshipped"])
+def test_the_proved_route_writes_the_strings_of_the_dps_90_110_route(which):
+    sc = scenes.scene("fig:xpotno") if which == "fig:xpotno" else UNSHIPPED
+    case = _sample(sc)
+    res, enc = golden.proved_values(sc, case)
+    assert res is not None and enc.proved
+    pair = golden.compute(sc, case, golden.GOLDEN_DPS)
+    assert golden.disagreement(pair, golden.compute(sc, case, golden.CHECK_DPS), sc) is None
+    assert golden.record(sc, res) == golden.record(sc, pair)
+
+
+def test_the_check_holds_on_the_run_it_certifies(xpot):
+    sc, _, res, enc = xpot
+    assert golden.outside_proof(res, enc, sc) is None
+
+
+def _moved(res, what, rel):
+    out = copy.deepcopy(res)
+    with mpmath.workdps(golden.CHECK_DPS):
+        if what == "phi":
+            x, v = out["phi"]
+            out["phi"] = (x + rel * max(1, abs(x)), v)
+        elif what == "event t":
+            e = out["events"][0]
+            out["events"][0] = e._replace(t=e.t + rel * max(1, abs(e.t)))
+        else:
+            J = [list(r) for r in out["jacobian"]]
+            J[1][0] += rel * max(1, abs(J[1][0]))
+            out["jacobian"] = J
+    return out
+
+
+@pytest.mark.parametrize("what", ["phi", "event t", "jacobian"])
+def test_a_value_moved_beyond_the_agreement_is_refused(xpot, what):
+    sc, _, res, enc = xpot
+    rtol = tol("golden_proved_agreement").rtol
+    scale = golden.kappa(sc, res) if what == "jacobian" else 1.0
+    assert golden.outside_proof(_moved(res, what, 3 * rtol * scale), enc, sc) is not None
+    assert golden.outside_proof(_moved(res, what, rtol * scale / 1e3), enc, sc) is None
+
+
+def test_a_ball_too_wide_to_pin_forty_digits_is_refused_though_it_holds_the_value(xpot):
+    sc, _, res, enc = xpot
+    wide = copy.copy(enc)
+    J = [list(r) for r in enc.jacobian]
+    with workprec(enc.prec):
+        J[0][1] = J[0][1] + arb(0, 1e-38)          # the point value stays inside
+        assert J[0][1].contains(from_mpf(res["jacobian"][0][1])) and J[0][1].rad() < 2e-38
+    wide.jacobian = J
+    assert "not within" in golden.outside_proof(res, wide, sc)
+
+
+def test_another_itinerary_or_a_one_sided_jacobian_is_refused(xpot):
+    sc, _, res, enc = xpot
+    fewer = copy.copy(enc)
+    fewer.events = enc.events[:-1]
+    assert "itineraries differ" in golden.outside_proof(res, fewer, sc)
+    none = copy.copy(enc)
+    none.jacobian = None
+    assert "Jacobian" in golden.outside_proof(res, none, sc)
+
+
+def test_a_proof_wider_than_the_floor_or_unproved_is_refused(xpot):
+    sc, _, res, enc = xpot
+    wide = copy.copy(enc)
+    with workprec(enc.prec):
+        wide.phi = (enc.phi[0] + arb(0, 1e-30), enc.phi[1])
+    assert "golden_enclosure_floor" in golden.outside_proof(res, wide, sc)
+    unproved = copy.copy(enc)
+    unproved.proved, unproved.reason = False, "a certificate failed"
+    assert "not proved" in golden.outside_proof(res, unproved, sc)
+
+
+def test_a_refused_input_falls_back_to_the_pair_and_its_self_check(xpot, monkeypatch):
+    sc, case, _, _ = xpot
+    real = golden.compute
+
+    def shaky(scene, c, dps, bad=(golden.PROVED_DPS,)):
+        out = real(scene, c, dps)
+        if dps in bad:
+            with mpmath.workdps(dps + 10):
+                out["phi"] = (out["phi"][0] * (1 + mpmath.mpf(10) ** -35), out["phi"][1])
+        return out
+
+    monkeypatch.setattr(golden, "compute", shaky)
+    entry = golden.case_entry(sc, case)["inputs"]["exact"]
+    assert "dps" not in entry                       # the dps 90 / 110 route wrote it
+    assert entry["phi"] == golden.record(sc, real(sc, case, golden.GOLDEN_DPS))["phi"]
+    monkeypatch.setattr(golden, "compute", lambda s, c, d: shaky(s, c, d, (golden.PROVED_DPS, golden.CHECK_DPS)))
+    with pytest.raises(golden.GoldenError, match="dps 90 vs 110"):
+        golden.case_entry(sc, case)
+
+
+def test_every_shipped_position_forced_input_is_certified_by_its_proof():
+    """The shipped ``fig:xpotno`` file was written by the proved route throughout (24 inputs),
+    and its stored proofs pin every written ``Phi'`` entry within ``golden_proved_agreement``
+    (the half-order proofs it held before were ~1e-29 wide)."""
+    data = golden.load("fig:xpotno")
+    inputs = [inp for case in data["cases"] for inp in case["inputs"].values()]
+    assert inputs and all(inp.get("dps") == golden.PROVED_DPS for inp in inputs)
+    rtol = tol("golden_proved_agreement").rtol
+    for inp in inputs:
+        if inp["jacobian"] is not None:
+            for row in inp["enclosure"]["jacobian"]:
+                for mid, rad in row:
+                    assert float(rad) <= rtol * max(1.0, abs(float(mid))), (inp["x"], mid, rad)
+    assert "proved_values" in data["provenance"]
