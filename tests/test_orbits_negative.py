@@ -7,7 +7,9 @@
 * The last Newton step taken in mean-value form (``_krawczyk``'s ``ahead``: its residual from
   the enclosure at the previous centre, no point log of its own; issue 33): an iterate more than
   the box radius from the fixed point is refused, one a quarter of it away is proved with the
-  closed-form multipliers; a residual ball wider than the box is refused before any box walk.
+  closed-form multipliers; a residual ball wider than the box is refused before any box walk;
+  a point log from elsewhere (``points``, the guide of every walk of a proof) proves nothing
+  wrong, and the proof is made again with a log per centre.
 * A box wide enough to hold two fixed points (x1 and x2 near the fold ``f/F -> 2/pi``, one
   itinerary): refused by the public ``prove_periodic(..., radius=...)``.
 * The type comes from the multiplier enclosures only: the saddle handed over as if it were the
@@ -150,6 +152,24 @@ def test_a_seed_eight_boxes_away_is_proved_by_the_wide_last_step(symmetric, kind
         assert got.proved and got.kind == kind, got.reason
         assert all(got.point[i].overlaps(proofs[kind].point[i]) for i in range(2))
     assert len(calls) == 1
+
+
+@pytest.mark.parametrize("start", [("10", "0.5"), ("19", "3")])
+def test_a_misleading_point_log_never_makes_a_wrong_proof(symmetric, start):
+    """``points``: one point log guides every walk of a proof.  A log from another start (a
+    turn alone, or an impact then a stick: not the saddle's two impacts) misleads the centre's
+    walk, which then proves nothing (never a wrong itinerary: each walk proves every event from
+    the balls); ``prove_periodic`` then gives every centre its own log, and proves the saddle."""
+    sc, proofs = symmetric
+    saddle = proofs["saddle"]
+    with workprec(PREC):
+        z = [b.mid() for b in saddle.point]
+        wrong = orbits.point_log(sc, *start, 1, saddle.phase, PREC)
+        misled = orbits._polished(sc, z, R, 1, saddle.phase, PREC, wrong)
+        assert not misled.proved and orbits.UNCENTRED in misled.reason, misled.reason
+        got = prove_periodic(sc, *z, phase=saddle.phase, points=wrong)
+        assert got.proved and got.kind == "saddle" and got.itinerary == ["impact", "impact"], got.reason
+        assert all(got.point[i].overlaps(saddle.point[i]) for i in range(2))
 
 
 def test_a_residual_wider_than_the_box_is_refused_before_the_box_is_walked(symmetric):

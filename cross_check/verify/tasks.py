@@ -186,13 +186,17 @@ def _section(sc, x, v, period):
 def _proof(label, sc, p, period, seg) -> dict:
     """The Krawczyk proof record of one orbit (``paper.claims.base.prove``), up the
     ``PROOF_LADDER`` (a segment of no-impact fixed points: ``prove_segment`` at its default); a
-    proof that raises is a failed one, with the reason."""
+    proof that raises is a failed one, with the reason.  One point log, from the section's state
+    at the first rung's digits, guides the walks of every rung (``prove_periodic``'s ``points``)."""
+    from reference.enclosure.orbits import point_log
+
     try:
         if seg is not None:
             return prove(label, sc, p.x, p.v, k=period, segment=seg)
         phase, x, v = _section(sc, p.x, p.v, period)
+        guide = point_log(sc, x, v, period, phase, PROOF_LADDER[0][0])
         for prec, radius in PROOF_LADDER:
-            rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase)
+            rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase, points=guide)
             if rec["proved"]:
                 return rec
         return rec

@@ -32,7 +32,8 @@ from reference.enclosure.balls import DEFAULT_PREC, from_number, workprec
 from reference.enclosure.shooting import krawczyk, section
 from reference.enclosure.balls import span as span_ball
 from reference.enclosure.kinds import OrbitProof, classify
-from reference.enclosure.maps import enclose_map
+from reference.enclosure.maps import _phase, _point_log, enclose_map
+from reference.integrator import MAX_EVENTS
 from reference.enclosure.params import ParamBox
 
 #: Newton steps on the midpoints before the proof (each one enclosure of ``P`` at a point).
@@ -49,6 +50,8 @@ STEP_SHARE, WIDE = 4, 16
 NEAR = 16
 #: the reason of a residual ball too wide for the box: no Newton step helps
 NOISY = "the residual alone"
+#: the reason of a centre whose walk fails: with a shared point log, the log may have misled it
+UNCENTRED = "at the centre is not proved"
 
 
 def _mat_sub_identity(J):
@@ -68,7 +71,7 @@ def _matvec(M, z):
     return [M[0][0] * z[0] + M[0][1] * z[1], M[1][0] * z[0] + M[1][1] * z[1]]
 
 
-def _newton(scene, z, periods, phase, prec, small=None):
+def _newton(scene, z, periods, phase, prec, small=None, points=None):
     """Polish ``z`` on midpoints: ``z <- z - s``, ``s = (P' - I)^-1 (P(z) - z)``, one enclosure
     of ``P`` at a point (a point log and a walk) per step.  Returns ``(z, enc, ahead)``: the
     last centre, the enclosure there and the next iterate ``z - s`` computed from it but not
@@ -78,7 +81,7 @@ def _newton(scene, z, periods, phase, prec, small=None):
     only confirmed convergence cost a point log per proof)."""
     for _ in range(NEWTON_STEPS):
         enc = enclose_map(scene, z[0], z[1], periods=periods, phase=phase, prec=prec,
-                          max_prec=prec)
+                          max_prec=prec, points=points)
         if not enc.proved:
             return z, enc, None
         M = _mid(_mat_sub_identity(enc.jacobian))
@@ -94,7 +97,7 @@ def _newton(scene, z, periods, phase, prec, small=None):
 
 
 def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
-                   prec=DEFAULT_PREC) -> OrbitProof:
+                   prec=DEFAULT_PREC, points=None) -> OrbitProof:
     """Prove a fixed point of ``Phi^periods`` near ``(x, v)`` (numbers as in ``enclose_map``).
 
     ``phase`` (rational in ``[0, 1)``) takes the section ``t = phase T`` instead of ``t = 0``
@@ -102,7 +105,13 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
     orbit is the same, the fixed point is its state at that phase); ``None`` (default) picks
     it in the longest stretch between events (``(x, v)`` is then the state at ``t = 0``).  ``radius``: the
     half-width of the box (default ``2^(-prec/3)``: wide enough to hold the fixed point after
-    Newton, narrow enough that the wrapping of a long itinerary stays small).
+    Newton, narrow enough that the wrapping of a long itinerary stays small).  ``points``: the
+    point log (:func:`point_log`, from the seed at ``phase``, at any precision) that guides the
+    walk of every enclosure of the proof (``enclose_map``'s ``points``: each walk proves every
+    event from the balls); None: made here from the seed.  One log serves the Newton iterates,
+    the box and the orbit's ball (issue 33: the point integrator was 60-70% of a position-forced
+    proof, a log per centre); if the walk of a Newton centre fails with it (a log from too far,
+    with another itinerary), the proof is made again with a log per centre.
 
     ``scene`` may be a :class:`~reference.enclosure.params.ParamBox`: the proof then holds for
     every parameter of the box (``reference.enclosure.boxes``: the state boxes are found by
@@ -122,21 +131,41 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
     with workprec(prec):
         if phase is None:
             phase, x, v = section(scene, x, v, periods, prec)
+        phase = _phase(phase)
         r = arb(2) ** (-(prec // 3)) if radius is None else from_number(radius)
-        small = r / STEP_SHARE
-        z, enc, ahead = _newton(scene, [from_number(x).mid(), from_number(v).mid()], periods, phase,
-                                prec, r * WIDE)
-        proof = _krawczyk(scene, z, r, periods, phase, prec, enc, ahead)
-        if (not proof.proved and ahead is not None and NOISY not in proof.reason
-                and not all(abs(ahead[i] - z[i]) <= small for i in range(2))):
-            z, enc, ahead = _newton(scene, ahead, periods, phase, prec, small)    # a box of r
-            proof = _krawczyk(scene, z, r, periods, phase, prec, enc, ahead)
+        seed = [from_number(x).mid(), from_number(v).mid()]
+        guide = points if points is not None else point_log(scene, *seed, periods, phase, prec)
+        proof = _polished(scene, seed, r, periods, phase, prec, guide)
+        if not proof.proved and UNCENTRED in proof.reason:     # misled by the guide? each its own
+            proof = _polished(scene, seed, r, periods, phase, prec, None)
         proof.phase = phase
         proof.seconds = time.perf_counter() - start
         return proof
 
 
-def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None):
+def point_log(scene, x, v, periods, phase, prec):
+    """The point integrator's log of ``Phi^periods`` from ``(x, v)`` at ``t = phase T`` with the
+    walls its model held, at the digits ``enclose_map`` takes for ``prec``: its ``points``, the
+    guide of the walks of a whole proof (``prove_periodic``), or of every rung of one."""
+    with workprec(prec):
+        return _point_log(scene, from_number(x).mid(), from_number(v).mid(), _phase(phase),
+                          Fraction(periods), prec, MAX_EVENTS)
+
+
+def _polished(scene, seed, r, periods, phase, prec, points):
+    """Newton from ``seed``, then the Krawczyk test; again with a box of ``r`` if the last step
+    was taken over a wider one and that failed (``STEP_SHARE``, ``WIDE``)."""
+    small = r / STEP_SHARE
+    z, enc, ahead = _newton(scene, seed, periods, phase, prec, r * WIDE, points)
+    proof = _krawczyk(scene, z, r, periods, phase, prec, enc, ahead, points)
+    if (not proof.proved and ahead is not None and NOISY not in proof.reason
+            and not all(abs(ahead[i] - z[i]) <= small for i in range(2))):
+        z, enc, ahead = _newton(scene, ahead, periods, phase, prec, small, points)    # a box of r
+        proof = _krawczyk(scene, z, r, periods, phase, prec, enc, ahead, points)
+    return proof
+
+
+def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, points=None):
     """The Krawczyk test on ``Z = z~ +- r`` with ``enc_mid`` the enclosure of ``P`` at the
     point ``z``, and ``z~ = ahead`` (a last Newton step from ``z``, not enclosed) or ``z``.
 
@@ -149,7 +178,7 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None):
     ``C F(z)`` alone is wider than ``Z`` (``K`` holds it): then the box is not walked."""
     fail = OrbitProof(False, periods, prec=prec, radius=float(r))
     if not enc_mid.proved:
-        fail.reason = f"Phi^{periods} at the centre is not proved: {enc_mid.reason}"
+        fail.reason = f"Phi^{periods} {UNCENTRED}: {enc_mid.reason}"
         return fail
     M = _mid(_mat_sub_identity(enc_mid.jacobian))
     det_m = M[0][0] * M[1][1] - M[0][1] * M[1][0]
@@ -166,7 +195,7 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None):
     zt = z if ahead is None else ahead
     d = [zt[0] - z[0], zt[1] - z[1]]
     box = enclose_map(scene, z[0], z[1], periods=periods, phase=phase, x_radius=(r + abs(d[0])).upper(),
-                      v_radius=(r + abs(d[1])).upper(), prec=prec, max_prec=prec)
+                      v_radius=(r + abs(d[1])).upper(), prec=prec, max_prec=prec, points=points)
     if not box.proved:
         fail.reason = f"the itinerary is not proved constant on the box of radius {float(r):.1e}: {box.reason}"
         return fail
@@ -178,15 +207,15 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None):
         fail.reason = (f"K(Z) is not inside Z (radius {float(r):.1e}): |K - z| = "
                        f"{[float(abs(K[i] - zt[i]).upper()) for i in range(2)]}")
         return fail
-    return _typed(scene, K, z, periods, phase, prec, r, enc_mid, box)
+    return _typed(scene, K, z, periods, phase, prec, r, enc_mid, box, points)
 
 
-def _typed(scene, K, z, periods, phase, prec, r, enc_mid, box):
+def _typed(scene, K, z, periods, phase, prec, r, enc_mid, box, points=None):
     """The proof with its multipliers and type, from ``P'`` over a box that holds ``K`` (the
     orbit's state): around the enclosed centre ``z`` if ``K`` is near it (``|mid K - z| <= NEAR
     rad K``: ``z``'s point log serves, the box at most ``NEAR + 1`` times as wide as ``K``), else
     ``K`` itself (a point log of its own); ``P'(B)`` (``box``) if that walk fails."""
-    kw = dict(periods=periods, phase=phase, prec=prec, max_prec=prec)
+    kw = dict(periods=periods, phase=phase, prec=prec, max_prec=prec, points=points)
     if all(abs(K[i].mid() - z[i]) <= NEAR * K[i].rad() for i in range(2)):
         tight = enclose_map(scene, z[0], z[1], x_radius=abs(K[0] - z[0]).upper(),
                             v_radius=abs(K[1] - z[1]).upper(), **kw)
