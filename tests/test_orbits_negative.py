@@ -137,23 +137,6 @@ def test_a_last_newton_step_inside_the_box_is_proved_with_the_closed_form_multip
             assert re.overlaps(from_mpf(want[0][0]) + slack) and im.overlaps(from_mpf(want[0][1]) + slack)
 
 
-@pytest.mark.parametrize("kind", ["elliptic", "saddle"])
-def test_a_seed_eight_boxes_away_is_proved_by_the_wide_last_step(symmetric, kind, monkeypatch):
-    """``prove_periodic`` from the fixed point moved by ``8 r``: its first Newton step (``<=
-    WIDE r``) is taken in mean-value form over the box of ``9 r`` around the seed, with no
-    retry (``_newton`` is called once); the proved ball holds the fixed point."""
-    sc, proofs = symmetric
-    calls = []
-    newton = orbits._newton
-    monkeypatch.setattr(orbits, "_newton", lambda *a: calls.append(a) or newton(*a))
-    with workprec(PREC):
-        x, v = (b.mid() + 8 * R for b in proofs[kind].point)
-        got = prove_periodic(sc, x, v, phase=proofs[kind].phase)
-        assert got.proved and got.kind == kind, got.reason
-        assert all(got.point[i].overlaps(proofs[kind].point[i]) for i in range(2))
-    assert len(calls) == 1
-
-
 @pytest.mark.parametrize("start", [("10", "0.5"), ("19", "3")])
 def test_a_misleading_point_log_never_makes_a_wrong_proof(symmetric, start):
     """``points``: one point log guides every walk of a proof.  A log from another start (a

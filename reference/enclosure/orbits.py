@@ -39,17 +39,11 @@ from reference.enclosure.params import ParamBox
 #: Newton steps on the midpoints before the proof (each one enclosure of ``P`` at a point).
 NEWTON_STEPS = 30
 #: The last Newton step ``s`` is taken in mean-value form (no enclosure at the new centre,
-#: ``_krawczyk``): first once ``|s| <= WIDE r`` (the box around the last centre widens to
-#: ``r + |s|``), then, if that box fails, once ``|s| <= r / STEP_SHARE`` (the head widens by
-#: ~``1 / STEP_SHARE`` of the Krawczyk tail).  Measured on two unseen position-forced scenes
-#: (issue 33): fast's seeds are 1e-16 to 1e-11 off, so at 64 bits (``r = 2^-32``) one point log
-#: does; at 96 bits (``r = 2^-48``) ``WIDE = 16`` saves a log for 5 of 9 period-3 orbits, where
-#: ``|s| <= sqrt(r) / 16`` failed the wider box (its wrapping) on 3 of 6 and cost a walk more.
-STEP_SHARE, WIDE = 4, 16
-#: ``K`` is near the enclosed centre ``z`` if ``|mid K - z| <= NEAR rad K`` (``_typed``)
-NEAR = 16
-#: the reason of a residual ball too wide for the box: no Newton step helps
-NOISY = "the residual alone"
+#: ``_krawczyk``) once ``|s| <= r / STEP_SHARE``: the box widens by that much, the head by
+#: ~``1 / STEP_SHARE`` of the Krawczyk tail.  (Taking it from ``|s| <= 16 r``, with a retry at
+#: ``r / 4`` when that wider box failed, saved a point log a proof before one log guided them
+#: all; with it, 5 walks of 70 on scene F's period 3 and a failed box on D's: no gain.)
+STEP_SHARE = 4
 #: the reason of a centre whose walk fails: with a shared point log, the log may have misled it
 UNCENTRED = "at the centre is not proved"
 
@@ -153,29 +147,22 @@ def point_log(scene, x, v, periods, phase, prec):
 
 
 def _polished(scene, seed, r, periods, phase, prec, points):
-    """Newton from ``seed``, then the Krawczyk test; again with a box of ``r`` if the last step
-    was taken over a wider one and that failed (``STEP_SHARE``, ``WIDE``)."""
-    small = r / STEP_SHARE
-    z, enc, ahead = _newton(scene, seed, periods, phase, prec, r * WIDE, points)
-    proof = _krawczyk(scene, z, r, periods, phase, prec, enc, ahead, points)
-    if (not proof.proved and ahead is not None and NOISY not in proof.reason
-            and not all(abs(ahead[i] - z[i]) <= small for i in range(2))):
-        z, enc, ahead = _newton(scene, ahead, periods, phase, prec, small, points)    # a box of r
-        proof = _krawczyk(scene, z, r, periods, phase, prec, enc, ahead, points)
-    return proof
+    """Newton from ``seed`` until its step is at most ``r / STEP_SHARE``, then the Krawczyk test."""
+    z, enc, ahead = _newton(scene, seed, periods, phase, prec, r / STEP_SHARE, points)
+    return _krawczyk(scene, z, r, periods, phase, prec, enc, ahead, points)
 
 
 def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, points=None):
     """The Krawczyk test on ``Z = z~ +- r`` with ``enc_mid`` the enclosure of ``P`` at the
     point ``z``, and ``z~ = ahead`` (a last Newton step from ``z``, not enclosed) or ``z``.
 
-    Every enclosure is centred at ``z``, so the three share its point log (the point
-    integrator: most of a proof's time under position forcing, issue 33): the box ``B = z +-
-    (r + |z~ - z|)``, which holds ``Z`` and the segment ``[z, z~]``, gives ``P'(B)``, hence
-    ``F(z~) in F(z) + (P'(B) - I)(z~ - z)`` (mean value, ``F = P - id``) and the tail
-    ``(I - C (P'(B) - I))(Z - z~)``: Krawczyk's operator with ``P'`` enclosed over a box that
-    contains ``Z``, still a proof.  The multipliers: ``_typed``.  The test cannot pass if
-    ``C F(z)`` alone is wider than ``Z`` (``K`` holds it): then the box is not walked."""
+    No enclosure at ``z~`` (issue 33: it only confirmed convergence): the box ``B = z +- (r +
+    |z~ - z|)``, which holds ``Z`` and the segment ``[z, z~]``, gives ``P'(B)``, hence ``F(z~) in
+    F(z) + (P'(B) - I)(z~ - z)`` (mean value, ``F = P - id``) and the tail ``(I - C (P'(B) -
+    I))(Z - z~)``: Krawczyk's operator with ``P'`` enclosed over a box that contains ``Z``, still
+    a proof.  The multipliers come from ``P'`` over ``K`` (the orbit's state; ``P'(B)`` if that
+    walk fails).  The test cannot pass if ``C F(z)`` alone is wider than ``Z`` (``K`` holds it):
+    then the box is not walked.  ``points``: the point log that guides every walk."""
     fail = OrbitProof(False, periods, prec=prec, radius=float(r))
     if not enc_mid.proved:
         fail.reason = f"Phi^{periods} {UNCENTRED}: {enc_mid.reason}"
@@ -189,7 +176,7 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, points=Non
     C = arb_mat(_mid(_inverse(M)))
     head = C * arb_mat([[enc_mid.phi[0] - z[0]], [enc_mid.phi[1] - z[1]]])
     if any(head[i, 0].rad() > 2 * r for i in range(2)):     # rad K >= rad head > 2 r
-        fail.reason = (f"K(Z) is not inside Z (radius {float(r):.1e}): {NOISY}, "
+        fail.reason = (f"K(Z) is not inside Z (radius {float(r):.1e}): the residual alone, "
                        f"|C (P(z) - z)|, has radii {[float(head[i, 0].rad()) for i in range(2)]}")
         return fail
     zt = z if ahead is None else ahead
@@ -207,20 +194,8 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, points=Non
         fail.reason = (f"K(Z) is not inside Z (radius {float(r):.1e}): |K - z| = "
                        f"{[float(abs(K[i] - zt[i]).upper()) for i in range(2)]}")
         return fail
-    return _typed(scene, K, z, periods, phase, prec, r, enc_mid, box, points)
-
-
-def _typed(scene, K, z, periods, phase, prec, r, enc_mid, box, points=None):
-    """The proof with its multipliers and type, from ``P'`` over a box that holds ``K`` (the
-    orbit's state): around the enclosed centre ``z`` if ``K`` is near it (``|mid K - z| <= NEAR
-    rad K``: ``z``'s point log serves, the box at most ``NEAR + 1`` times as wide as ``K``), else
-    ``K`` itself (a point log of its own); ``P'(B)`` (``box``) if that walk fails."""
-    kw = dict(periods=periods, phase=phase, prec=prec, max_prec=prec, points=points)
-    if all(abs(K[i].mid() - z[i]) <= NEAR * K[i].rad() for i in range(2)):
-        tight = enclose_map(scene, z[0], z[1], x_radius=abs(K[0] - z[0]).upper(),
-                            v_radius=abs(K[1] - z[1]).upper(), **kw)
-    else:
-        tight = enclose_map(scene, K[0].mid(), K[1].mid(), x_radius=K[0].rad(), v_radius=K[1].rad(), **kw)
+    tight = enclose_map(scene, K[0].mid(), K[1].mid(), periods=periods, phase=phase, x_radius=K[0].rad(),
+                        v_radius=K[1].rad(), prec=prec, max_prec=prec, points=points)
     return _multipliers(scene, K, periods, prec, r, enc_mid, tight if tight.proved else box)
 
 
