@@ -151,14 +151,15 @@ def _segments(found, tol):
 #: box too wide for one itinerary, or a centre that 64 bits cannot polish (multipliers ~1e3),
 #: climbs: measured on scene B's period-3 saddle, (64, 2^-32) fails, (96, 2^-48) proves in 1.2 s,
 #: where 320 bits takes 8.9 s.  Second pass (issue 33, profiled on two unseen scenes, D and F of
-#: the issue): a rung was 2 to 4 point logs (each Newton step's enclosure, then the box's at the
-#: same centre, then the "tight" one around ``K``) and as many walks: 60% (F) to 70% (D) of a
-#: proof in point logs, the rest in walks.  ``prove_periodic`` now centres every enclosure of a
-#: rung on the last enclosed Newton iterate (its last step taken in mean-value form,
-#: ``orbits._krawczyk``): one point log a rung at 64 bits for fast's seeds, two at 96 bits and
-#: more (one more Newton step, or the multipliers over the orbit's own ball), and a rung whose
-#: residual ball alone is wider than its box (64 and 96 bits on D's period-3 orbits: 53 bits
-#: lost) fails before its box is walked.  Point logs (periods 1-3): D 53 -> 32, F 90 -> 53.
+#: the issue): a rung was 2 to 4 point logs (each Newton step's enclosure, the box's, the one
+#: over ``K``) and as many walks, 44% of a proof's CPU in the point logs on both (D: 70% before
+#: ``reference.taylor``'s fixed-point steps).  Now one
+#: point log an orbit, from the section's state at the first rung's digits, guides every walk
+#: of every rung (``prove_periodic``'s ``points``: each walk proves every event from the
+#: balls); the last Newton step is taken in mean-value form (no enclosure that only confirms
+#: convergence); a rung whose residual ball alone is wider than its box (64 and 96 bits on D's
+#: period-3 orbits: 53 bits lost) fails before its box is walked.  Point logs (periods 1-3):
+#: D 53 -> 20, F 90 -> 31; walks D 81 -> 72, F 132 -> 124.
 PROOF_LADDER = ((64, 2.0 ** -32), (96, 2.0 ** -48), (128, 2.0 ** -64), (320, None))
 
 
@@ -210,10 +211,12 @@ def orbits(rec: dict, period: int, depth: Depth) -> list:
     ``sticks``, the proof record or why none was attempted).
 
     Where the time goes (issue 33, CPU seconds of periods 1 + 2 + 3, one run each, on a loaded
-    2-core machine): on D (``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``) 48.4 -> 36.0 s,
-    of which the Newton search in fast ~9 s (5,000 seed maps a period, unchanged) and the
-    proofs 39.0 -> 27.9 s (point logs 27.2 -> 17.7 s, walks 11.8 -> 10.2 s); on F (``F=1 f=0.2
-    omega=1 l=-1 r=1 wavenumber=1``) 26.0 -> 17.4 s.  The same orbits, classified the same,
+    2-core machine): on D (``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``) 30.6 -> 20.7 s
+    (48.4 before ``reference.taylor``'s fixed-point steps), of which the Newton search in fast
+    ~8 s (5,000 seed maps a period, unchanged) and the proofs 21.2 -> 12.8 s (point logs 9.4 ->
+    2.6 s); on F (``F=1 f=0.2 omega=1 l=-1 r=1 wavenumber=1``) 19.0 -> 12.5 s (26.0), proofs
+    16.6 -> 10.3 s; on G (``F=2 f=0.35 omega=1.3 l=-0.7 r=1.2 restitution=0.9 damping=0.05
+    wavenumber=1.8``) 11.2 -> 8.1 s (14.7).  The same orbits, classified the same,
     proved at the same rung, each point ball overlapping the one before (``PROOF_LADDER``)."""
     import fast
 
