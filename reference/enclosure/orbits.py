@@ -67,12 +67,12 @@ def _matvec(M, z):
 
 def _newton(scene, z, periods, phase, prec, small=None, points=None):
     """Polish ``z`` on midpoints: ``z <- z - s``, ``s = (P' - I)^-1 (P(z) - z)``, one enclosure
-    of ``P`` at a point (a point log and a walk) per step.  Returns ``(z, enc, ahead)``: the
-    last centre, the enclosure there and the next iterate ``z - s`` computed from it but not
-    enclosed (``None`` if none: ``enc`` unproved or ``P' - I`` singular).  The loop ends once
-    the step is at most ``small`` or within the enclosure's own noise: ``_krawczyk`` then takes
-    it in mean-value form over the box around ``z`` (issue 33: the enclosure at ``z - s`` that
-    only confirmed convergence cost a point log per proof)."""
+    of ``P`` at a point (a walk guided by ``points``, else by a point log of its own) per step.
+    Returns ``(z, enc, ahead)``: the last centre, the enclosure there and the next iterate
+    ``z - s`` computed from it but not enclosed (``None`` if none: ``enc`` unproved or ``P' - I``
+    singular).  The loop ends once the step is at most ``small`` or within the enclosure's own
+    noise: ``_krawczyk`` then takes it in mean-value form over the box around ``z`` (issue 33:
+    the enclosure at ``z - s`` only confirmed convergence)."""
     for _ in range(NEWTON_STEPS):
         enc = enclose_map(scene, z[0], z[1], periods=periods, phase=phase, prec=prec,
                           max_prec=prec, points=points)
@@ -103,8 +103,8 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
     point log (:func:`point_log`, from the seed at ``phase``, at any precision) that guides the
     walk of every enclosure of the proof (``enclose_map``'s ``points``: each walk proves every
     event from the balls); None: made here from the seed.  One log serves the Newton iterates,
-    the box and the orbit's ball (issue 33: the point integrator was 60-70% of a position-forced
-    proof, a log per centre); if the walk of a Newton centre fails with it (a log from too far,
+    the box and the orbit's ball (issue 33: the point integrator was 44% to 70% of a
+    position-forced proof, a log per centre); if the walk of a Newton centre fails with it (a log from too far,
     with another itinerary), the proof is made again with a log per centre.
 
     ``scene`` may be a :class:`~reference.enclosure.params.ParamBox`: the proof then holds for
