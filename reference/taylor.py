@@ -72,8 +72,13 @@ and ``L``, which ``taylor_order`` takes as ``N + 1 = 0.75 L`` (N = 92 at 50 digi
 ``q ~ e^-4/3``; 0.6 dps = 30 would take 8x more steps).
 
 Event bounds over a window ``[ta, tb]`` (for certified event location): in flight
-``d|v|/dt <= F + f + c |v|``, so ``|v| <= vmax = (|v(ta)| + (F+f)/c) e^{c (tb-ta)} - (F+f)/c``
-(``|v(ta)| + (F+f)(tb-ta)`` if ``c = 0``); ``|x''| <= F + f + c vmax =: amax`` and
+``d|v|/dt = sgn(v) (A - s f - c v) <= F + f - c |v|`` (``|A - s f| <= F + f``; damping only
+slows), so ``|v| <= vmax = min(|v(ta)| + (F+f)(tb-ta), max(|v(ta)|, (F+f)/c))`` (the second
+term for ``c > 0``: the comparison solution ``(F+f)/c + (|v(ta)| - (F+f)/c) e^{-c (tb-ta)}``
+lies between ``|v(ta)|`` and ``(F+f)/c``).  Issue 33: the bound used to be
+``d|v|/dt <= F + f + c |v|``, whose ``e^{c (tb-ta)}`` over a ten-period window (``c = 0.163``,
+``10 T = 69``: ``vmax ~ 1e6``) shrank the safe steps until the event search gave up on an unseen
+damped scene.  ``|x''| <= F + f + c vmax =: amax`` and
 ``|v''| = |A_t + A_x v - c a| <= F w + F k vmax + c amax``.
 """
 from __future__ import annotations
@@ -488,10 +493,9 @@ class TaylorFlight:
         va = self._bound_at[1]
         F, f, c, k, w = self.prm
         dt = mpmath.mpf(tb) - mpmath.mpf(ta)
-        if c > 0:
-            vmax = (abs(va) + (F + f) / c) * mpmath.exp(c * dt) - (F + f) / c
-        else:
-            vmax = abs(va) + (F + f) * dt
+        vmax = abs(va) + (F + f) * dt
+        if c > 0:                  # damping only slows: |v| never climbs above (F + f) / c
+            vmax = min(vmax, max(abs(va), (F + f) / c))
         amax = F + f + c * vmax
         return vmax, amax, F * w + F * k * vmax + c * amax
 

@@ -11,14 +11,14 @@ import math
 
 import mpmath
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given, settings, strategies as st
 
 import reference
 from cross_check.tolerances import tol
 from reference import taylor
 from reference.scene import Scene
 from reference.taylor import TaylorFlight
-from tests.strategies import flight_starts, xpot_scenes
+from tests.strategies import flight_starts, position_forced_scenes, xpot_scenes
 
 XPOT = Scene(F=1, f="0.1", omega="2*pi", l=-1, r=1, wavenumber="pi/2", name="xpot")
 
@@ -275,3 +275,37 @@ def test_table1_with_variational_flight_matrices_is_the_map_derivative():
                 fd = (plus[row] - minus[row]) / (2 * d)
                 assert abs(J[row, col] - fd) <= tol("taylor_fd_jacobian_dps50").atol
         assert abs(model.force(ev.x, ev.t)) > 1e-2
+
+
+@settings(max_examples=8, deadline=None)
+@given(data=st.data())
+def test_the_event_bounds_hold_over_long_windows_of_damped_flights(data):
+    """``bound_x2`` and ``bound_v2`` bound ``|a|`` and ``|a'|`` over a window of two periods from
+    a random point of a random damped position-forced flight (issue 33: their ``vmax`` now uses
+    that damping only slows, ``|v| <= max(|v(ta)|, (F+f)/c)``; a bound without the growth of
+    ``|v|`` -- ``vmax = |v(ta)|`` -- was seen to fail here)."""
+    scene = data.draw(position_forced_scenes()).replace(damping=data.draw(st.sampled_from(("0.05", "0.3", "1.5"))))
+    t0, x0, v0, s = data.draw(flight_starts(scene))
+    with mpmath.workdps(20):
+        fl = TaylorFlight(scene, t0, x0, v0, s)
+        ta = fl.t_start + data.draw(st.floats(0, 0.5)) * scene.period
+        tb = ta + 2 * scene.period
+        mx, mv = fl.bound_x2(ta, tb), fl.bound_v2(ta, tb)
+        vmax = fl._bounds(ta, tb)[0]               # the speed bound they rest on (docstring)
+        for t in mpmath.linspace(ta, tb, 25):
+            x, v, a = fl.evaluate(t)
+            assert abs(v) <= vmax, (t, v, vmax)
+            assert abs(a) <= mx and abs(fl.jerk(t, x, v, a)) <= mv, (t, a, mx)
+
+
+def test_a_ten_period_map_of_a_damped_scene_settles():
+    """An unseen damped scene (the verify benchmark's R1): the ten-period map at 40 digits used
+    to stop with 'event search did not settle in 20000 safe steps' (the bound's ``e^{c 10 T}``)."""
+    from cross_check.agreement import compare
+    from cross_check.scenes import Case
+
+    scene = Scene(F="1.69", f="0.271", omega="0.91", l="-1.72", r="-0.26", wavenumber="0.199",
+                  damping="0.163", name="R1")
+    case = Case("R1 sample", "-0.2952775489546542", "1.2794028578969763", "float64", "verify benchmark R1")
+    x, v = compare.ref_map(scene, case, 10, 40)
+    assert -1.72 <= float(x) <= -0.26 and mpmath.isfinite(v)
