@@ -309,3 +309,18 @@ def test_a_ten_period_map_of_a_damped_scene_settles():
     case = Case("R1 sample", "-0.2952775489546542", "1.2794028578969763", "float64", "verify benchmark R1")
     x, v = compare.ref_map(scene, case, 10, 40)
     assert -1.72 <= float(x) <= -0.26 and mpmath.isfinite(v)
+
+
+@given(st.lists(st.integers(-(1 << 90), 1 << 90), min_size=1, max_size=120),
+       st.integers(0, 1 << 80))
+def test_the_fixed_point_horner_is_within_n_units_of_the_exact_sum(coeffs, sig):
+    """``taylor._fixed_horner``: ``sum Z_n sigma^n`` in ``P``-bit fixed point (``sigma = sig 2^-P``
+    in ``[0, 1]``) is within ``N`` units of ``2^-P`` of the exact rational sum (each of the ``N``
+    Horner steps rounds down by less than one unit), and exact at ``sigma = 1``."""
+    from fractions import Fraction
+
+    P = 80
+    exact = sum(Fraction(z) * Fraction(sig, 1 << P) ** n for n, z in enumerate(coeffs))
+    got = taylor._fixed_horner(coeffs, sig, P)
+    assert abs(got - exact) <= len(coeffs)
+    assert taylor._fixed_horner(coeffs, 1 << P, P) == sum(coeffs)
