@@ -258,8 +258,8 @@ def outside_proof(res: dict, enc, sc) -> str | None:
 
 def proved_values(sc, case):
     """``(res, enc)``: a position-forced input's values from one ``PROVED_DPS`` run, certified by
-    its proof (``outside_proof``), or ``(None, enc or None)`` where that does not hold -- then the
-    dps 90 / 110 pair decides, as for every other effect.
+    its proof (``outside_proof``), or ``None`` where that does not hold -- then the dps 90 / 110
+    pair decides (``_self_checked``), as for every other effect.
 
     Issue 33, measured on an unseen scene (``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``, 24
     inputs, one run each): the dps 90 and 110 runs took 34 and 48 of the golden task's 104 CPU s
@@ -268,10 +268,19 @@ def proved_values(sc, case):
     full-derivative proofs 12.6 (guided by those runs' point logs), the band 5.8 and the one
     input the proof does not certify (a grazing start: Phi 2e-40 wide) 3.4: 30 CPU s in all."""
     if not sc.has("position_forcing"):
-        return None, None
+        return None
     res = compute(sc, case, PROVED_DPS)
     enc = golden_proof.position_proof(sc, case, res["points"])
-    return (res, enc) if outside_proof(res, enc, sc) is None else (None, enc)
+    return (res, enc) if outside_proof(res, enc, sc) is None else None
+
+
+def _self_checked(sc, case, where) -> dict:
+    """The dps-90 run of ``case`` once a dps-110 run agrees with it (else ``GoldenError``)."""
+    res, check = compute(sc, case, GOLDEN_DPS), compute(sc, case, CHECK_DPS)
+    why = disagreement(res, check, sc)
+    if why is not None:
+        raise GoldenError(f"{where}: dps {GOLDEN_DPS} vs {CHECK_DPS}: {why}")
+    return res
 
 
 def input_proof(sc, case, dps=None) -> dict:
@@ -295,18 +304,16 @@ def case_entry(sc, case) -> dict:
     entry = {"name": case.name, "exact": case.exact, "x": case.x, "v": case.v, "how": case.how,
              "constructed_kind": case.kind or None, "t_event": case.t_event or None, "inputs": {}}
     for label, inp in inputs.items():
-        res, enc = proved_values(sc, inp)
-        if res is None:
-            res, check, enc = compute(sc, inp, GOLDEN_DPS), compute(sc, inp, CHECK_DPS), None
-            why = disagreement(res, check, sc)
-            if why is not None:
-                raise GoldenError(f"{sc.name} / {case.name} / {label}: dps {GOLDEN_DPS} vs {CHECK_DPS}: {why}")
-            entry["inputs"][label] = {"x": inp.x, "v": inp.v, **record(sc, res)}
+        proved = proved_values(sc, inp)
+        if proved is not None:
+            (res, enc), head = proved, {"x": inp.x, "v": inp.v, "dps": PROVED_DPS}
         else:
-            entry["inputs"][label] = {"x": inp.x, "v": inp.v, "dps": PROVED_DPS, **record(sc, res)}
+            res, enc = _self_checked(sc, inp, f"{sc.name} / {case.name} / {label}"), None
+            head = {"x": inp.x, "v": inp.v}
+        out = entry["inputs"][label] = {**head, **record(sc, res)}
         if inp.exact == "float64":
-            entry["inputs"][label]["band"] = golden_proof.band(sc, inp)
-        entry["inputs"][label]["enclosure"] = golden_proof.enclosure(sc, inp, enc)
+            out["band"] = golden_proof.band(sc, inp)
+        out["enclosure"] = golden_proof.enclosure(sc, inp, enc)
     return entry
 
 
