@@ -34,6 +34,9 @@ MAX_EVENTS = 10_000_000
 _REAL_KINDS = "iuf"
 #: batches up to this size are validated in Python (a Newton step's few states)
 _SMALL = 8
+#: the coarsest ``steps_per_period`` (module docstring): ``S = 16`` errs ~1e-8 (``(128/16)^8``
+#: times the floor), about the most a Newton search can use
+STEPS_MIN = 16
 
 
 def _engine(scene):
@@ -120,10 +123,18 @@ def _count(name, value, *, low=0):
     return int(value)
 
 
-def _setup(scene, x, v, max_events, threads=None):
-    """The engine, its constants, the validated states, ``max_events`` and the thread count."""
+def _setup(scene, x, v, max_events, threads=None, steps=None):
+    """The engine, its constants (with ``steps``: ``steps_per_period``), the validated states,
+    ``max_events`` and the thread count."""
     engine, P = _engine(scene)
     x, v = _validate(engine, P, x, v)
+    if steps is not None:
+        steps = _count("steps_per_period", steps, low=STEPS_MIN)
+        if steps > ode.STEPS_PER_PERIOD:
+            raise ValueError(f"fast: steps_per_period must be an integer in [{STEPS_MIN}, "
+                             f"{ode.STEPS_PER_PERIOD}] (or None for {ode.STEPS_PER_PERIOD}), got {steps!r}")
+        if engine is ode:
+            P = ode.with_steps(P, steps)
     return engine, P, x, v, _count("max_events", max_events, low=1), batch.check_threads(threads, x.size)
 
 
@@ -136,12 +147,13 @@ def _run(engine, P, x, v, t_end, t_end_lo, max_events, threads, **kw):
                      threads=threads, **kw)
 
 
-def stroboscopic_map(scene, x, v, *, periods=1, max_events=MAX_EVENTS, threads=None):
+def stroboscopic_map(scene, x, v, *, periods=1, max_events=MAX_EVENTS, threads=None,
+                     steps_per_period=None):
     """``Phi^periods(x, v)``: the state at ``t = periods T`` of the motion from ``(x, v)`` at
     ``t = 0``, each period from ``t0 = 0`` (the forcing is ``T``-periodic) with the state
     rounded to float64 in between; ``periods = 0`` returns the input."""
     periods = _count("periods", periods)
-    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
+    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads, steps_per_period)
     xs, vs = batch.run_periods(engine, P, x.ravel().copy(), v.ravel().copy(), *_period(engine, P),
                                periods, max_events=max_events, threads=threads)
     return xs.reshape(x.shape), vs.reshape(x.shape)
@@ -157,7 +169,8 @@ def orbit(scene, x, v, n, *, max_events=MAX_EVENTS, threads=None):
     return X.reshape((n + 1,) + x.shape), V.reshape((n + 1,) + x.shape)
 
 
-def map_and_jacobian(scene, x, v, *, periods=1, max_events=MAX_EVENTS, threads=None):
+def map_and_jacobian(scene, x, v, *, periods=1, max_events=MAX_EVENTS, threads=None,
+                     steps_per_period=None):
     """``(x1, v1, J, zero_velocity)`` over one period in one pass; ``J`` of shape ``shape +
     (2, 2)`` is ``Phi'``: the time-ordered product of the paper's Table 1 matrices
     (reflection with the velocity before impact; sticking ``[[1, 0], [0, 0]]``; wall
@@ -167,7 +180,7 @@ def map_and_jacobian(scene, x, v, *, periods=1, max_events=MAX_EVENTS, threads=N
     (later on the left, one matrix product per period), each period from ``t = 0`` as in
     ``stroboscopic_map``; ``zero_velocity`` if any of the ``k`` periods reaches it."""
     periods = _count("periods", periods, low=1)
-    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
+    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads, steps_per_period)
     res = _run(engine, P, x, v, *_period(engine, P), max_events, threads, jac=True)
     xs, vs, zero = res.x, res.v, res.zero_velocity
     J = res.J.reshape(-1, 2, 2)

@@ -4,7 +4,8 @@ The forcing ``F cos(k x) cos(w t)`` (the paper's last section, eq. ``xpot``: ``k
 has no closed-form flight; ``fast.api`` routes such scenes here (the only path to a
 numerical ODE solver).  A flight is integrated by fixed DOP853 steps (``fast.dop853``) of
 length ``h = 2 pi / (S Lambda)``, ``Lambda = max(w, k |v|, sqrt(F k), c)`` at the step start,
-the last one ending at ``t_end``; ``S = STEPS_PER_PERIOD``.  The steps are compensated
+the last one ending at ``t_end``; ``S = STEPS_PER_PERIOD`` (a search may ask for fewer:
+``fast.api``'s ``steps_per_period``, the slot ``SPP`` of ``P``).  The steps are compensated
 (``fast.compensated``, issue 33): the state, the clock, the period, the parameters and the
 trigonometry of each step's start are double-doubles, each stage's acceleration carries its
 own rounding, and an event's state comes from a step onto it plus one Newton step of its
@@ -66,8 +67,8 @@ STEPS_PER_PERIOD = 128
 STEPS_PER_EVENT = 16
 OK, LOOP_BOUND, NON_FINITE = batch.OK, batch.LOOP_BOUND, batch.NON_FINITE
 #: slots of P
-F, FF, DAMP, K, W, E, L, R, T, T_LO, K_LO, W_LO, F_LO, FF_LO, DAMP_LO, E_LO, L_LO, R_LO, XS = range(19)
-SIZE = 19
+F, FF, DAMP, K, W, E, L, R, T, T_LO, K_LO, W_LO, F_LO, FF_LO, DAMP_LO, E_LO, L_LO, R_LO, XS, SPP = range(20)
+SIZE = 20
 #: the flight's constants and their low parts, in ``fast.compensated.constants``' order
 DD_SLOTS = (F, F_LO, FF, FF_LO, DAMP, DAMP_LO, K, K_LO, W, W_LO, E, E_LO, L, L_LO, R, R_LO)
 #: modes of the loop, and the event codes of a flight
@@ -102,7 +103,17 @@ def params(scene):
                                (L, L_LO, "l"), (R, R_LO, "r")):
             P[slot], P[lo] = split_exact(scene.mpf(name) or mpmath.mpf(0))
     P[XS] = max(abs(P[L]), abs(P[R]), P[R] - P[L])     # the positions' scale (their float resolution)
+    P[SPP] = STEPS_PER_PERIOD
     return P
+
+
+def with_steps(P, steps):
+    """A copy of ``P`` whose flights take ``S = steps`` steps per unit of ``2 pi / Lambda``
+    (``_step_len``): the truncation grows like ``(STEPS_PER_PERIOD / S)^8`` from float64's
+    floor, the cost falls like ``S`` (``fast.api``'s ``steps_per_period``)."""
+    out = P.copy()
+    out[SPP] = steps
+    return out
 
 
 #: The most fixed steps a period may need at rest, ``S max(w, sqrt(F k), c, sqrt((F + f)/X))/w``
@@ -167,7 +178,7 @@ def _step_len(P, av):
     up to 3 eps a period at ``S = 128``, issue 33)."""
     reach = math.sqrt((P[F] + P[FF]) / max(max(1.0, abs(P[L])), abs(P[R])))
     lam = max(max(P[W], P[K] * av), max(max(math.sqrt(P[F] * P[K]), P[DAMP]), reach))
-    return 2 * math.pi / (STEPS_PER_PERIOD * lam)
+    return 2 * math.pi / (P[SPP] * lam)
 
 
 @kernel(inline=True)

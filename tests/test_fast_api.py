@@ -4,12 +4,15 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import fast
 import reference
 from fast import api, batch, loop, ode
 from fast.params import E, params
 from reference.scene import Scene
+from tests.strategies import position_forced_scenes
 
 NARROW = Scene(F=1, f="0.005", omega=1, l=0, r="0.8")      # paper fig. narrow-with-friction
 TWO_PI = Scene(F=1, f="0.05", omega="2*pi", l=-1, r=1)      # paper fig. many:2pi (c)
@@ -236,3 +239,43 @@ def test_warm_up_compiles_the_engines_asked_for_and_then_runs_from_them():
     fast.map_and_jacobian(Scene(F=1, f="0.1", omega=1, l=0, r=2, wavenumber=2), np.array([1.0] * 300),
                           np.array([0.5] * 300), threads=2)
     assert (len(loop.run_range.signatures), len(ode.run_range.signatures)) == before == (1, 1)
+
+
+XPOT_D = Scene(F=3, f="0.5", omega="0.8", l=-2, r="1.5", wavenumber="2.5")   # issue 33's scene D
+
+
+@pytest.mark.parametrize("bad, error", [(15, ValueError), (129, ValueError), (32.5, ValueError),
+                                        ("32", TypeError), (True, TypeError)])
+def test_bad_steps_per_period_names_the_parameter_and_range(bad, error):
+    with pytest.raises(error, match="steps_per_period"):
+        fast.map_and_jacobian(XPOT_D, 0.1, 0.2, steps_per_period=bad)
+    with pytest.raises(error, match="steps_per_period"):
+        fast.stroboscopic_map(NARROW, 0.1, 0.2, steps_per_period=bad)
+
+
+def test_steps_per_period_default_and_closed_form_are_bitwise_unchanged():
+    """``None`` and ``STEPS_PER_PERIOD`` are the default map; closed-form flights have no steps."""
+    x, v = _batch(XPOT_D, 20, 2.0, seed=5)
+    ref = fast.map_and_jacobian(XPOT_D, x, v)
+    same = fast.map_and_jacobian(XPOT_D, x, v, steps_per_period=ode.STEPS_PER_PERIOD)
+    assert all(np.array_equal(a, b) for a, b in zip(ref, same))
+    x, v = _batch(NARROW, 20, 2.0, seed=5)
+    closed = fast.stroboscopic_map(NARROW, x, v)
+    assert all(np.array_equal(a, b) for a, b in zip(closed, fast.stroboscopic_map(NARROW, x, v, steps_per_period=16)))
+
+
+@settings(max_examples=12)
+@given(sc=position_forced_scenes(), steps=st.sampled_from((24, 32, 48)), seed=st.integers(0, 2 ** 16))
+def test_coarse_steps_err_like_their_truncation(sc, steps, seed):
+    """``steps_per_period = S``: the map within ``4 (128 / S)^8 eps max(1, |Phi'|) max(1, |z|)`` of
+    the default (``fast.api``'s docstring: DOP853's truncation grows like ``h^8`` from the
+    default's error of at most 4 eps over its conditioning, ``golden_fast_phi_per_cond``), and
+    not the default map itself (on D's 2,000 states the largest ratio was 0.39 of the bound)."""
+    x, v = _batch(sc, 8, 2.0, seed=seed)
+    X, V, J, _ = fast.map_and_jacobian(sc, x, v)
+    Xs, Vs, _, _ = fast.map_and_jacobian(sc, x, v, steps_per_period=steps)
+    ok = np.isfinite(J).all(axis=(1, 2))          # a grazing start has no Phi' to scale by
+    cond = np.maximum(1, np.abs(J[ok]).max(axis=(1, 2))) * np.maximum(1, np.maximum(abs(X[ok]), abs(V[ok])))
+    err = np.maximum(abs(Xs[ok] - X[ok]), abs(Vs[ok] - V[ok]))
+    assert np.all(err <= 4 * (ode.STEPS_PER_PERIOD / steps) ** 8 * 2.0 ** -52 * cond), (err / cond).max()
+    assert not (np.array_equal(Xs, X) and np.array_equal(Vs, V))
