@@ -156,3 +156,29 @@ def test_bad_input():
         A.find_periodic_points(WIDE, grid=(0, 3))
     with pytest.raises(ValueError, match="x_range"):
         A.find_periodic_points(WIDE, x_range=(-1.0, 3.0))
+
+
+XPOT_D = Scene(F=3, f="0.5", omega="0.8", l=-2, r="1.5", wavenumber="2.5")   # issue 33's scene D
+
+
+def test_coarse_search_screens_seeds_and_the_default_map_finds_the_points():
+    """``search_steps``: the coarse map screens the seeds and the default map runs those that pass,
+    from the seeds: every point found is a fixed point of the default map to ``tol`` and is the
+    very point (bit for bit) that the search without a screen finds (on D's 8 x 8 grid, all of
+    them).  Points polished from the screen's own ends differ in their last bits."""
+    vmax = 3.0
+    kw = dict(period=1, v_range=(-vmax, vmax), grid=(8, 8))
+    plain = A.find_periodic_points(XPOT_D, **kw)
+    found = A.find_periodic_points(XPOT_D, search_steps=A.SEARCH_STEPS, **kw)
+    assert found and [(p.x, p.v, p.kind) for p in found] == [(p.x, p.v, p.kind) for p in plain]
+    for p in found:
+        X, V, _ = A.map_and_jacobian(XPOT_D, [p.x], [p.v])
+        assert max(abs(X[0] - p.x), abs(V[0] - p.v)) <= 1e-11 * max(1, abs(p.x), abs(p.v))
+
+
+def test_coarse_search_changes_nothing_without_position_forcing():
+    """Closed-form flights have no steps: ``search_steps`` gives the same Newton run, bit for bit."""
+    x, v = np.linspace(0.1, 0.7, 5), np.linspace(-0.5, 0.5, 5)
+    a = A.newton(NARROW := Scene(F=1, f="0.005", omega=1, l=0, r="0.8"), x, v)
+    b = A.newton(NARROW, x, v, search_steps=A.SEARCH_STEPS)
+    assert np.array_equal(a.x, b.x) and np.array_equal(a.v, b.v) and np.array_equal(a.converged, b.converged)

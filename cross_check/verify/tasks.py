@@ -94,6 +94,19 @@ def states(rec: dict, depth: Depth) -> dict:
     return {"cases": scenes.states_of_interest(name, depth.n_sample), "notes": scenes.hard_case_notes(name)}
 
 
+def kernels(rec: dict) -> dict:
+    """Compile ``fast``'s engine for the scene (or load it from numba's cache): ``fast.warm_up``'s
+    seconds.  It runs beside the first ``states`` task, on the worker that would otherwise wait.
+    On a cold cache (a fresh clone) every task that called ``fast`` first compiled the engine in
+    its own worker, both workers at once: a first verify of an unseen position-forced scene took
+    46 CPU s where the next took 30 (issue 33; the compilation is ~10 CPU s).  Once written, the
+    cache serves every later task, in every worker."""
+    import fast
+
+    pf = scenes.scene(scene_of(rec)).has("position_forcing")
+    return fast.warm_up(closed_form=not pf, position_forcing=pf)
+
+
 def golden_entries(rec: dict, cases: list) -> list:
     """``[(index, entry or None, reason)]`` for a chunk of ``(index, case)``."""
     sc = scenes.scene(scene_of(rec))
@@ -222,7 +235,8 @@ def orbits(rec: dict, period: int, depth: Depth) -> list:
 
     sc = scenes.scene(scene_of(rec))
     vmax = velocity_range(sc)
-    found = periodic.find_periodic_points(sc, period=period, v_range=(-vmax, vmax), grid=depth.seeds)
+    found = periodic.find_periodic_points(sc, period=period, v_range=(-vmax, vmax), grid=depth.seeds,
+                                          search_steps=periodic.SEARCH_STEPS)
     flat = [p for p in found if p.kind == "non-isolated"]
     rows = [("orbit", p, None) for p in found if p.kind != "non-isolated"]
     rows += [("segment", g[0], (min(q.x for q in g), max(q.x for q in g))) for g in _segments(flat, 1e-7)]
