@@ -56,6 +56,19 @@ def test_the_example_file_and_inline_scenes_verify_quick(run):
     assert "Every check holds" in report
 
 
+def test_one_kernels_task_per_engine_and_its_cpu_in_the_report(run):
+    """``fast``'s engines are compiled once per run, each beside the first scene that needs it
+    (``verify.run._first_of_each_engine``), and that task's CPU counts in its scene's line."""
+    from cross_check.verify import run as verify_run
+
+    recs = [{"name": "a", "wavenumber": None}, {"name": "b", "wavenumber": "1"}, {"name": "c"},
+            {"name": "d", "wavenumber": "2"}]
+    assert list(verify_run._first_of_each_engine(recs)) == ["a", "b"]
+    status, out = run
+    lines = [line for line in _report(out).splitlines() if line.startswith("CPU seconds by task:")]
+    assert sum("kernels" in line for line in lines) == 1, lines
+
+
 def test_f_le_f_and_frictionless_have_different_hard_cases_and_the_report_says_why(run):
     _, out = run
     built = {n: {c["name"] for c in golden.load(n, out)["cases"] if c["exact"] == "decimal"}

@@ -87,6 +87,15 @@ class _Run:
         return out
 
 
+def _first_of_each_engine(records) -> dict:
+    """``{scene: record}``: the first scene of each of ``fast``'s engines (position forcing or
+    not), whose ``kernels`` task compiles that engine for every scene (``tasks.kernels``)."""
+    first = {}
+    for rec in records:
+        first.setdefault(rec.get("wavenumber") is not None, rec)
+    return {rec["name"]: rec for rec in first.values()}
+
+
 def compute(records, depth, *, scheduler=None, workers=2, progress=None, client=None) -> dict:
     """Every task of every scene; ``{scene: {what: (result, seconds) or exception}}`` and the wall time.
 
@@ -98,6 +107,8 @@ def compute(records, depth, *, scheduler=None, workers=2, progress=None, client=
         run = _Run(cl, progress)
         for rec in records:
             run.submit(rec["name"], "states", tasks.states, rec, depth)
+        for name, rec in _first_of_each_engine(records).items():
+            run.submit(name, "kernels", tasks.kernels, rec)
         states = run.gather()
         for rec in records:
             name = rec["name"]
