@@ -151,3 +151,20 @@ def test_every_shipped_position_forced_input_is_certified_by_its_proof():
                 for mid, rad in row:
                     assert float(rad) <= rtol * max(1.0, abs(float(mid))), (inp["x"], mid, rad)
     assert "proved_values" in data["provenance"]
+
+
+def test_band_is_settled_by_the_first_proof_that_holds(monkeypatch):
+    """``golden_proof.band``: a proof at 64 bits over the box of the moves says "not in the band"
+    without running the moves; at rest on a wall (the moves flip contact, impact and flight) no
+    proof holds at any of ``BAND_PRECS`` and the moves say "in the band"."""
+    from cross_check import golden_proof
+
+    sc = scenes.scene(scenes.register(UNSHIPPED) if UNSHIPPED.name not in scenes.SCENES else UNSHIPPED.name)
+    ran = []
+    monkeypatch.setattr(compare, "reference_in_band", lambda sc, case: ran.append(case) or True)
+    monkeypatch.setattr(golden_proof, "BAND_PRECS", (64,))
+    assert golden_proof.band(sc, _sample(sc, 0)) is False and not ran
+    monkeypatch.undo()
+    at_rest = scenes.Case("at rest on r", "1.0", "0.0", "float64", "test")
+    assert golden_proof.BAND_PRECS == (64, 128)
+    assert golden_proof.band(sc, at_rest) is True
