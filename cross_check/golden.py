@@ -108,16 +108,16 @@ class _KeptFlights:
         return [[J[0, 0], J[0, 1]], [J[1, 0], J[1, 1]]]
 
 
-def compute(sc, case, dps: int) -> dict:
+def compute(sc, case, dps: int, jacobian: bool = True) -> dict:
     """Map, Jacobian and one-period event log of ``reference`` at ``dps`` (mpf values).
 
     One integration over ``[0, T]`` gives all three (what ``reference.stroboscopic_map``,
     ``jacobian`` and ``trajectory`` each integrate again; issue 33: under position forcing the
     three runs, each Jacobian factor a fresh Taylor flight, were ~70% of a golden input's cost),
-    each value rounded to ``dps`` digits as those calls round it.
+    each value rounded to ``dps`` digits as those calls round it.  ``jacobian=False``: no
+    Jacobian (``None``, with the note saying so; ``proved_values`` takes it from the proof).
     """
     from reference import api, integrator
-    from reference.jacobian import product_of_table1
 
     with mpmath.workdps(dps + 10):
         x, v = case.mpf()                            # as compare.ref_map & co. read a case
@@ -126,18 +126,25 @@ def compute(sc, case, dps: int) -> dict:
         x, v = api._state(model, x, v)
         log = integrator.integrate(model, mpmath.mpf(0), x, v, model.T)
         out = {"phi": api._rounded(dps, log.x_end, log.v_end)}
-        try:
-            J = product_of_table1(model, log)
-            with mpmath.workdps(dps):
-                out["jacobian"] = [[+J[0][0], +J[0][1]], [+J[1][0], +J[1][1]]]
-            out["jacobian_note"] = None
-        except (ValueError, ArithmeticError) as exc:   # undefined (grazing): the reference says why
-            out["jacobian"], out["jacobian_note"] = None, f"{type(exc).__name__}: {exc}"
+        out["jacobian"], out["jacobian_note"] = _jacobian(model, log, dps) if jacobian else (None, "not computed")
         with mpmath.workdps(dps):
             out["events"] = [compare.Event(e.kind, +e.t, +e.x, +e.v, None if e.v_before is None else +e.v_before,
                                            e.count) for e in log]
         out["points"] = (log, (model.l, model.r))   # the point log an enclosure may be guided by
     return out
+
+
+def _jacobian(model, log, dps):
+    """``(Phi', None)`` of the run (Table 1's product, ``dps`` digits), or ``(None, why)`` where
+    it is undefined (grazing: the reference says why)."""
+    from reference.jacobian import product_of_table1
+
+    try:
+        J = product_of_table1(model, log)
+    except (ValueError, ArithmeticError) as exc:
+        return None, f"{type(exc).__name__}: {exc}"
+    with mpmath.workdps(dps):
+        return [[+J[0][0], +J[0][1]], [+J[1][0], +J[1][1]]], None
 
 
 def kappa(sc, res) -> float:
@@ -257,20 +264,28 @@ def outside_proof(res: dict, enc, sc) -> str | None:
 
 
 def proved_values(sc, case):
-    """``(res, enc)``: a position-forced input's values from one ``PROVED_DPS`` run, certified by
-    its proof (``outside_proof``), or ``None`` where that does not hold -- then the dps 90 / 110
-    pair decides (``_self_checked``), as for every other effect.
+    """``(res, enc)``: a position-forced input's values from one ``PROVED_DPS`` run and its
+    Jacobian from its proof's balls (their midpoints: ``Phi'`` to ~1e-47, ``full_derivative``),
+    every one certified by that proof (``outside_proof``), or ``None`` where that does not hold
+    -- then the dps 90 / 110 pair decides (``_self_checked``), as for every other effect.
 
     Issue 33, measured on an unseen scene (``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``, 24
     inputs, one run each): the dps 90 and 110 runs took 34 and 48 of the golden task's 104 CPU s
     (the variational columns and the mpf conversions of the Taylor steps, ``reference.taylor``),
     the half-order proof 13, the band 9; now the dps-50 runs take 8.6 (fixed-point steps), the
     full-derivative proofs 12.6 (guided by those runs' point logs), the band 5.8 and the one
-    input the proof does not certify (a grazing start: Phi 2e-40 wide) 3.4: 30 CPU s in all."""
+    input the proof does not certify (a grazing start: Phi 2e-40 wide) 3.4: 30 CPU s in all.
+    The run's own Jacobian (Table 1's product of the flights' variational columns) was 46% of
+    its cost (2.6 of 5.6 CPU s on D's first 8 inputs); the proof computes ``Phi'`` anyway, to
+    1e-47, so the run no longer does: D's golden task 30.5 -> 24.7 CPU s in a full verify, every
+    written string the same (one run each)."""
     if not sc.has("position_forcing"):
         return None
-    res = compute(sc, case, PROVED_DPS)
+    res = compute(sc, case, PROVED_DPS, jacobian=False)
     enc = golden_proof.position_proof(sc, case, res["points"])
+    if not enc.proved or enc.jacobian is None:
+        return None
+    res["jacobian"], res["jacobian_note"] = golden_proof.midpoints(enc.jacobian), None
     return (res, enc) if outside_proof(res, enc, sc) is None else None
 
 
@@ -289,7 +304,7 @@ def input_proof(sc, case, dps=None) -> dict:
     on that run's point log, any other one by ``golden_proof.enclosure`` alone."""
     first = None
     if dps == PROVED_DPS and sc.has("position_forcing"):
-        first = golden_proof.position_proof(sc, case, compute(sc, case, PROVED_DPS)["points"])
+        first = golden_proof.position_proof(sc, case, compute(sc, case, PROVED_DPS, jacobian=False)["points"])
     return golden_proof.enclosure(sc, case, first)
 
 
@@ -322,10 +337,11 @@ def document(sc, cases: list, n_sample: int = N_SAMPLE, generator: str = "python
     doc = _document(sc, cases, n_sample, generator)
     if sc.has("position_forcing"):
         doc["provenance"]["proved_values"] = (
-            f"an input with \"dps\": {PROVED_DPS} has its values from a dps-{PROVED_DPS} run, every "
-            "written number of which its enclosure (192 bits, Phi' to the working precision) "
-            "proves within golden_proved_agreement (1e-40; Phi' x kappa) of the true value, in "
-            f"place of the dps-{CHECK_DPS} run; the others: dps {GOLDEN_DPS} checked at {CHECK_DPS}")
+            f"an input with \"dps\": {PROVED_DPS} has its values from a dps-{PROVED_DPS} run and its "
+            "Jacobian from the midpoints of its enclosure's balls (192 bits, Phi' to the working "
+            "precision), every written number of which that enclosure proves within "
+            "golden_proved_agreement (1e-40; Phi' x kappa) of the true value, in place of the "
+            f"dps-{CHECK_DPS} run; the others: dps {GOLDEN_DPS} checked at {CHECK_DPS}")
     return doc
 
 

@@ -16,10 +16,12 @@ from __future__ import annotations
 import math
 from fractions import Fraction
 
+import mpmath
+
 from cross_check.agreement import compare
 from cross_check.tolerances import tol
 from reference.enclosure import enclose_map
-from reference.enclosure.balls import decimal_ball, from_mpf, radius_text, workprec
+from reference.enclosure.balls import decimal_ball, from_mpf, radius_text, to_mpf, workprec
 
 #: Significant digits of an enclosure's midpoint (its rounding is added to the radius).
 ENCLOSURE_DIGITS = 50
@@ -96,6 +98,13 @@ def band(sc, case) -> bool:
                        prec=prec, max_prec=prec).proved:
             return False
     return compare.reference_in_band(sc, case)
+
+
+def midpoints(balls) -> list:
+    """The midpoints of a matrix of balls as exact ``mpf`` (``golden.proved_values``' Jacobian)."""
+    bits = max(b.mid().man_exp()[0].bit_length() for row in balls for b in row) + 8
+    with mpmath.workprec(bits):
+        return [[to_mpf(b) for b in row] for row in balls]
 
 
 def ball_within(value, ball, rtol) -> bool:

@@ -85,7 +85,8 @@ def _exact_ball(exact) -> arb:
 
 
 def to_mpf(value: arb) -> mpmath.mpf:
-    """The midpoint of a ball as an exact ``mpf`` (any mpmath precision)."""
+    """The midpoint of a ball as an ``mpf``, rounded to mpmath's working precision (exact when
+    that holds the midpoint's mantissa)."""
     man, exp = value.mid().man_exp()
     return mpmath.mpf((int(man) < 0, abs(int(man)), int(exp), abs(int(man)).bit_length()))
 
