@@ -25,7 +25,7 @@ import reference
 from cross_check import golden, golden_proof
 from cross_check.agreement import compare, hardcases, impact_at_t
 from cross_check.agreement import hardcases_position as HP
-from cross_check.agreement.case import Case, ConstructionError
+from cross_check.agreement.case import Case, ConstructionError, decimal_text
 from cross_check.tolerances import tol
 from reference.enclosure.maps import MapEnclosure
 from reference.scene import Scene
@@ -194,6 +194,28 @@ def test_impact_at_T_from_rest_needs_its_bracket_and_its_forward_proof(monkeypat
     monkeypatch.setattr(impact_at_t, "enclose_map", lambda *a, **k: MapEnclosure(False, "a failure, injected"))
     case, why = impact_at_t.construct(sc, HP.STATE_DIGITS)
     assert case is None and "the forward proof failed: a failure, injected" in why
+
+
+def test_impact_at_T_narrowed_by_fast_gives_the_same_start_or_falls_back(monkeypatch):
+    """fast narrows scene C's bracket (``_narrowed``) to one that still brackets in fast, ~1e7
+    times narrower, around the start the reference places; a narrowed bracket in which the
+    reference finds no crossing falls back to the bracket itself, and the start is the same."""
+    sc = SCENES["C"]
+    x0 = float(_case("C", "impact_at_T").x)
+    (xa, xb), = [b for b in impact_at_t._brackets(sc) if b[0] <= x0 <= b[1]]
+    na, nb = impact_at_t._narrowed(sc, xa, xb)
+    assert xa <= na < nb <= xb and (nb - na) < (xb - xa) * 1e-6 and na <= x0 <= nb
+    assert impact_at_t._crossings(sc, np.array([na, nb])) == [0]
+    with mpmath.workdps(impact_at_t.REFINE_DPS + 10):
+        T = 2 * mpmath.pi / sc.mpf("omega")
+        good = impact_at_t._refined(sc, xa, xb, T, HP.STATE_DIGITS)
+        tried, real = [], impact_at_t._refine
+        monkeypatch.setattr(impact_at_t, "_refine", lambda *a: tried.append(a[1:3]) or real(*a))
+        monkeypatch.setattr(impact_at_t, "_narrowed", lambda sc, a, b: (a, a + (b - a) * 1e-3))
+        again = impact_at_t._refined(sc, xa, xb, T, HP.STATE_DIGITS)
+    assert tried == [(xa, xa + (xb - xa) * 1e-3), (xa, xb)]          # refused, then the bracket
+    for x in (good[0], again[0]):
+        assert decimal_text(x, HP.STATE_DIGITS) == _case("C", "impact_at_T").x
 
 
 @settings(max_examples=4, deadline=None)
