@@ -219,16 +219,20 @@ def newton(scene, x, v, *, period=1, engine=FAST, tol=None, max_iter=MAX_NEWTON,
         clip = lambda a: np.minimum(np.maximum(a, l), r)          # noqa: E731
         x = clip(engine.asarray(x))
         v = engine.asarray(v)
-        if v_bounds is None:
-            vmax = 10 * (np.max(np.abs(v.astype(float)), initial=0.0) + scene.float("F") / scene.float("omega"))
-            v_bounds = (-vmax, vmax)
-        state = _State(scene, engine, x, v, period, clip, v_bounds)
+        bounds = v_bounds if v_bounds is not None else _default_v_bounds(scene, v)
+        state = _State(scene, engine, x, v, period, clip, bounds)
         it = 0
         for it in range(1, max_iter + 1):
             if not state.iterate(tol):
                 break
         done = engine.finite(state.res) & (state.res <= tol)
         return NewtonResult(state.x, state.v, state.J, state.res, done.astype(bool), it, state.gx, state.gv)
+
+
+def _default_v_bounds(scene, v):
+    """``newton``'s default ``v_bounds``: ``|v| <= 10 (max |v0| + F/w)`` over the batch."""
+    vmax = 10 * (np.max(np.abs(v.astype(float)), initial=0.0) + scene.float("F") / scene.float("omega"))
+    return -vmax, vmax
 
 
 def _two_stage(scene, x, v, period, tol, max_iter, v_bounds, steps):
@@ -240,10 +244,8 @@ def _two_stage(scene, x, v, period, tol, max_iter, v_bounds, steps):
     edge of a family of rest states -- a multiplier 2e-7 from 1, residual 8e-12 on a drift too
     slow for the tolerance -- whose proofs then failed up the whole ladder for 22 CPU s.)"""
     x, v = FAST.asarray(x), FAST.asarray(v)
-    if v_bounds is None:
-        vmax = 10 * (np.max(np.abs(v), initial=0.0) + scene.float("F") / scene.float("omega"))
-        v_bounds = (-vmax, vmax)
-    lo, hi = (np.broadcast_to(np.asarray(b, float), x.shape) for b in v_bounds)
+    bounds = v_bounds if v_bounds is not None else _default_v_bounds(scene, v)
+    lo, hi = (np.broadcast_to(np.asarray(b, float), x.shape) for b in bounds)
     coarse = newton(scene, x, v, period=period, engine=_Fast(steps), tol=max(SEARCH_TOL, tol or 0.0),
                     max_iter=max_iter, v_bounds=(lo, hi))
     near = np.flatnonzero(coarse.converged)
