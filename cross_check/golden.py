@@ -322,7 +322,7 @@ def case_entry(sc, case) -> dict:
         proved = proved_values(sc, inp)
         if proved is not None:
             (res, enc), head = proved, {"x": inp.x, "v": inp.v, "dps": PROVED_DPS}
-        else:
+        else:       # its proof is made again, unguided, as ``prove --golden`` makes it (input_proof)
             res, enc = _self_checked(sc, inp, f"{sc.name} / {case.name} / {label}"), None
             head = {"x": inp.x, "v": inp.v}
         out = entry["inputs"][label] = {**head, **record(sc, res)}

@@ -202,7 +202,7 @@ def _proof(label, sc, p, period, seg) -> dict:
     ``PROOF_LADDER`` (a segment of no-impact fixed points: ``prove_segment`` at its default); a
     proof that raises is a failed one, with the reason.  One point log, from the section's state
     at the first rung's digits, guides the walks of every rung (``prove_periodic``'s ``points``)."""
-    from reference.enclosure.orbits import point_log
+    from reference.enclosure.maps import point_log
 
     try:
         if seg is not None:

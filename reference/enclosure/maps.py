@@ -74,6 +74,16 @@ def _ball_model(scene, prec):
     return BallModel(scene)
 
 
+def point_log(scene, x, v, periods, phase, prec):
+    """The point integrator's log of ``Phi^periods`` from ``(x, v)`` (numbers as in
+    ``enclose_map``) at ``t = phase T`` with the walls its model held, at the digits
+    ``enclose_map`` takes for ``prec``: ``enclose_map``'s ``points``, e.g. the guide of the walks
+    of a whole orbit proof (``reference.enclosure.orbits.prove_periodic``), or of every rung of one."""
+    with workprec(prec):
+        return _point_log(scene, from_number(x).mid(), from_number(v).mid(), check_phase(phase),
+                          Fraction(periods), prec, MAX_EVENTS)
+
+
 def _point_log(scene, x, v, phase, periods, prec, max_events):
     """The point integrator's log from ``(x, v)`` (at a box's midpoint parameters); the same
     call again (a proof re-walks one centre on growing boxes) is served from a small cache."""
@@ -156,7 +166,7 @@ def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, phase=0, prec
     _check(scene, periods, prec, max_prec, max_events)
     if isinstance(scene, ParamBox) and scene.is_point:
         scene = scene.scene()
-    phase, periods = _phase(phase), Fraction(periods)
+    phase, periods = check_phase(phase), Fraction(periods)
     last, best = None, None
     while prec <= max_prec:
         with workprec(prec):
@@ -172,7 +182,8 @@ def enclose_map(scene, x, v, *, periods=1, x_radius=0, v_radius=0, phase=0, prec
     return best if best is not None else MapEnclosure(False, reason=last, prec=prec // 2)
 
 
-def _phase(phase):
+def check_phase(phase):
+    """``phase`` as a ``Fraction`` in ``[0, 1)`` (``TypeError``/``ValueError`` naming the range)."""
     try:
         value = Fraction(phase.strip() if isinstance(phase, str) else phase)
     except (TypeError, ValueError):

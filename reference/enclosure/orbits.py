@@ -32,8 +32,7 @@ from reference.enclosure.balls import DEFAULT_PREC, from_number, workprec
 from reference.enclosure.shooting import krawczyk, section
 from reference.enclosure.balls import span as span_ball
 from reference.enclosure.kinds import OrbitProof, classify
-from reference.enclosure.maps import _phase, _point_log, enclose_map
-from reference.integrator import MAX_EVENTS
+from reference.enclosure.maps import check_phase, enclose_map, point_log
 from reference.enclosure.params import ParamBox
 
 #: Newton steps on the midpoints before the proof (each one enclosure of ``P`` at a point).
@@ -100,7 +99,7 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
     it in the longest stretch between events (``(x, v)`` is then the state at ``t = 0``).  ``radius``: the
     half-width of the box (default ``2^(-prec/3)``: wide enough to hold the fixed point after
     Newton, narrow enough that the wrapping of a long itinerary stays small).  ``points``: the
-    point log (:func:`point_log`, from the seed at ``phase``, at any precision) that guides the
+    point log (``maps.point_log``, from the seed at ``phase``, at any precision) that guides the
     walk of every enclosure of the proof (``enclose_map``'s ``points``: each walk proves every
     event from the balls); None: made here from the seed.  One log serves the Newton iterates,
     the box and the orbit's ball (issue 33: the point integrator was 44% to 70% of a
@@ -125,7 +124,7 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
     with workprec(prec):
         if phase is None:
             phase, x, v = section(scene, x, v, periods, prec)
-        phase = _phase(phase)
+        phase = check_phase(phase)
         r = arb(2) ** (-(prec // 3)) if radius is None else from_number(radius)
         seed = [from_number(x).mid(), from_number(v).mid()]
         guide = points if points is not None else point_log(scene, *seed, periods, phase, prec)
@@ -135,15 +134,6 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
         proof.phase = phase
         proof.seconds = time.perf_counter() - start
         return proof
-
-
-def point_log(scene, x, v, periods, phase, prec):
-    """The point integrator's log of ``Phi^periods`` from ``(x, v)`` at ``t = phase T`` with the
-    walls its model held, at the digits ``enclose_map`` takes for ``prec``: its ``points``, the
-    guide of the walks of a whole proof (``prove_periodic``), or of every rung of one."""
-    with workprec(prec):
-        return _point_log(scene, from_number(x).mid(), from_number(v).mid(), _phase(phase),
-                          Fraction(periods), prec, MAX_EVENTS)
 
 
 def _polished(scene, seed, r, periods, phase, prec, points):
