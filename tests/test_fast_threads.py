@@ -59,6 +59,16 @@ def test_the_same_bits_on_any_thread_count_with_numerical_flights():
     assert np.array_equal(X1, X3) and np.array_equal(V1, V3)
 
 
+def test_the_coarse_map_is_the_same_bits_on_any_thread_count_and_batch():
+    """``steps_per_period`` (a slot of the engine's constants) keeps the batch driver's promise:
+    the same bits for every thread count and for a state alone."""
+    x, v = _states(N, seed=7)
+    runs = [fast.map_and_jacobian(FORCED, x, v, threads=t, steps_per_period=32) for t in (1, 3)]
+    assert all(np.array_equal(a, b, equal_nan=True) for a, b in zip(*runs))
+    alone = fast.map_and_jacobian(FORCED, x[5:6], v[5:6], steps_per_period=32)
+    assert all(np.array_equal(a[5:6], b, equal_nan=True) for a, b in zip(runs[0], alone))
+
+
 def test_default_is_the_affinity_mask(no_env, monkeypatch, pools):
     monkeypatch.setattr(os, "sched_getaffinity", lambda pid: set(range(16)), raising=False)
     assert fast.default_threads() == 16
