@@ -168,3 +168,23 @@ def test_band_is_settled_by_the_first_proof_that_holds(monkeypatch):
     at_rest = scenes.Case("at rest on r", "1.0", "0.0", "float64", "test")
     assert golden_proof.BAND_PRECS == (64, 128)
     assert golden_proof.band(sc, at_rest) is True
+
+
+def test_band_guided_by_the_inputs_own_log_runs_no_point_integrator_and_a_wrong_guide_proves_nothing(monkeypatch):
+    """``golden_proof.band(..., points)``: the input's own dps-50 log (``golden.compute``'s) guides
+    the proofs, which then run no point integrator and give the unguided flag; a log of another
+    input cannot make a proof hold (the walk proves every event from the balls): at rest on a
+    wall, guided by a sample's log, the moves still say "in the band"."""
+    from cross_check import golden_proof
+    from reference.enclosure import maps
+
+    sc = scenes.scene(scenes.register(UNSHIPPED) if UNSHIPPED.name not in scenes.SCENES else UNSHIPPED.name)
+    case = _sample(sc, 0)
+    points = golden.compute(sc, case, golden.PROVED_DPS, jacobian=False)["points"]
+    runs, point_log = [], maps._cached_point_log
+    monkeypatch.setattr(maps, "_cached_point_log", lambda *a: runs.append(a) or point_log(*a))
+    assert golden_proof.band(sc, case, points) is False and not runs
+    assert golden_proof.band(sc, case) is False and runs
+    monkeypatch.undo()
+    at_rest = scenes.Case("at rest on r", "1.0", "0.0", "float64", "test")
+    assert golden_proof.band(sc, at_rest, points) is True
