@@ -276,17 +276,40 @@ def saddle_centre_pair(scene, win, newton_seeds):
 
 
 # ------------------------------------------------------------------------------ area classes
-def area_classes(scene, x, v):
-    """``(labels, det)``: per state ``"pres"`` (|det Phi'| = 1), ``"dissip"`` (< 1) or ``"undefined"``."""
+def area_classes(scene, x, v, steps=None):
+    """``(labels, det)``: per state ``"pres"`` (|det Phi'| = 1), ``"dissip"`` (< 1) or ``"undefined"``.
+
+    ``steps``: first on ``fast``'s coarse map (its ``steps_per_period``; position forcing,
+    closed-form flights ignore it), for a picture that needs the classes, not ``Phi'``: a state
+    whose coarse ``det`` is clearly in a class (``claim_unit_det_clear``: within a quarter of
+    ``AREA_TOL`` of 1, or far below 1) keeps it, every other one (near a class's edge, or
+    ``Phi'`` undefined) is classed again on the default map.  So the coarse map decides only
+    where the default map decides the same way, unless the two ``det`` differ by more than
+    ~1e-3 (``tests/test_verify_portrait.py``)."""
     x, v = np.atleast_1d(np.asarray(x, float)), np.atleast_1d(np.asarray(v, float))
-    J = np.asarray(engine().jacobian(scene, x, v), float).reshape(x.shape + (2, 2))
-    with np.errstate(invalid="ignore"):
-        det = np.linalg.det(np.where(np.isfinite(J), J, 0.0))
-    det = np.where(np.isfinite(J).all(axis=(-1, -2)), det, np.nan)
+    det = _det(scene, x, v, steps)
+    if steps is not None:
+        clear = tol("claim_unit_det_clear")
+        again = ~((np.abs(np.abs(det) - 1) <= clear.atol) | (np.abs(det) < 1 - clear.rtol))
+        if again.any():
+            det[again] = _det(scene, x[again], v[again], None)
     labels = np.full(x.shape, "undefined", dtype=object)
     labels[np.abs(np.abs(det) - 1) <= AREA_TOL] = "pres"
     labels[np.abs(det) < 1 - AREA_TOL] = "dissip"
     return labels, det
+
+
+def _det(scene, x, v, steps):
+    """``det Phi'`` per state (NaN where ``Phi'`` is undefined), on ``fast``'s map with ``steps``
+    steps per period (None: the default)."""
+    if steps is None:
+        J = engine().jacobian(scene, x, v)
+    else:
+        J = engine().map_and_jacobian(scene, x, v, steps_per_period=steps)[2]
+    J = np.asarray(J, float).reshape(x.shape + (2, 2))
+    with np.errstate(invalid="ignore"):
+        det = np.linalg.det(np.where(np.isfinite(J), J, 0.0))
+    return np.where(np.isfinite(J).all(axis=(-1, -2)), det, np.nan)
 
 
 def dissipative_invariance(scene, x, v):

@@ -21,13 +21,23 @@ from cross_check.paper.figures.base import draw_orbits, frame
 #: marker per period of an orbit
 _MARKERS = {1: "o", 2: "s", 3: "^"}
 
+#: ``fast``'s ``steps_per_period`` of the shading's first look (``dynamics.portraits.area_classes``;
+#: position forcing, issue 33).  The 120 x 120 pixels' Jacobians were 7.6 of the portrait's ~9
+#: CPU s on scene D (``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``: ~3,000 fixed steps a
+#: period at its fastest pixels); at ``S = 48`` they take 2.95, and no pixel needed the second
+#: look on D, on ``F=1 f=0.2 omega=1 l=-1 r=1 wavenumber=1`` (1.24 -> 0.54) or on issue 33's two
+#: scenes: the same classes (one run each).  A pixel needs its class, not ``Phi'``: the largest
+#: ``|det - 1|`` on ``Omega_pres`` is 2.0e-10 and 1.6e-11 on D and F at ``S = 48``, 2.1e-10 and
+#: 8.4e-12 at the default 128 (rounding, not truncation, sets it); at ``S = 16``, 1.6e-9 and 3.9e-9.
+PORTRAIT_STEPS = 48
+
 
 def _shade(ax, sc, window, pixels):
     l, r = sc.float("l"), sc.float("r")
     xg = l + (np.arange(pixels) + 0.5) / pixels * (r - l)
     vg = window[2] + (np.arange(pixels) + 0.5) / pixels * (window[3] - window[2])
     X, V = np.meshgrid(xg, vg)
-    labels, _ = por.area_classes(sc, X.ravel(), V.ravel())
+    labels, _ = por.area_classes(sc, X.ravel(), V.ravel(), steps=PORTRAIT_STEPS)
     rgb = np.ones(X.shape + (3,))
     lab = labels.reshape(X.shape)
     rgb[lab == "dissip"] = (0.87, 0.87, 0.87)
