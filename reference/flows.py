@@ -27,7 +27,10 @@ Any object with these members is a flight and plugs into the event finder unchan
     They are what makes the event location certified; they must be true bounds
     (e.g. ``|x''| <= F + f + c |v|``, ``|v''| <= |dA/dt| + |dA/dx| |v| + c |a|``).
 ``max_window``
-    ``None``, or the longest window ``tb - ta`` for which bounds are requested.
+    ``None``, or the longest window ``tb - ta`` over which the event search asks the bounds
+    for its steps (``events.find_next_event`` then steps at most that far on one bound): the
+    bounds must hold over any window, and a flight whose bounds loosen with the window's
+    length (``reference.taylor``'s, ``vmax`` growing with it) keeps them tight this way.
 ``noise_x``, ``noise_v``, ``noise_a``
     the absolute noise floors of ``x``, ``v``, ``a`` at the working precision
     (a value whose magnitude is below its floor is indistinguishable from zero).

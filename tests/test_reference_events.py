@@ -109,3 +109,56 @@ def test_chatter_run_detection_resets_on_other_events():
     run.observe("impact", -1)                                # other wall: a new run
     run.add_impact(mpf(6), mpf(1))
     assert run.count == 1 and run.wall_side == -1
+
+
+class _Quartic:
+    """``x(t) = c t^4`` toward a wall at ``R``, with event bounds that hold only over the first
+    ``W`` of any window asked for (``|x''| = 12 c t^2 <= 12 c (ta + min(tb - ta, W))^2``): the
+    search is certified on it only if it keeps its steps within ``max_window``."""
+
+    def __init__(self, W, floats):
+        self.c, self.W, self.max_window = mpf(1), mpf(W), mpf(W)
+        self.t_start, self.s = mpf(0), 1
+        self.noise_x = self.noise_v = self.noise_a = mpf(2) ** (-mpmath.mp.prec + 8)
+        if floats:
+            self.evaluate_float = self._float
+
+    def evaluate(self, t):
+        return self.c * t ** 4, 4 * self.c * t ** 3, 12 * self.c * t ** 2
+
+    def jerk(self, t, x, v, a):
+        return 24 * self.c * t
+
+    def _top(self, ta, tb):
+        return ta + min(tb - ta, self.W)
+
+    def bound_x2(self, ta, tb):
+        return 12 * self.c * self._top(ta, tb) ** 2
+
+    def bound_v2(self, ta, tb):
+        return 24 * self.c * self._top(ta, tb)
+
+    def bound_a2(self, ta, tb):
+        return 24 * self.c
+
+    def _float(self, h):
+        x, v, a, j = (float(q) for q in self.evaluate(mpf(h)) + (self.jerk(mpf(h), 0, 0, 0),))
+        return x, v, a, j, *(abs(q) * 4e-16 + 1e-300 for q in (x, v, a, j))
+
+
+@pytest.mark.parametrize("floats", [False, True])
+def test_the_search_keeps_its_steps_within_the_window_of_its_bounds(floats):
+    """``find_next_event`` with ``max_window`` (``reference.taylor``'s flights: ``T / 8``) asks
+    its bounds over windows of at most that length and steps no further: on a flight whose
+    bounds hold only so far, it finds the wall at ``t* = R^(1/4)``.  Had it stepped by the
+    bound of a window longer than its own (the same flight, its window not declared), it
+    jumps the wall: the cap is what keeps the certificate."""
+    R = mpf(16)
+    with mpmath.workdps(40):
+        fl = _Quartic(mpf("0.3"), floats)
+        fn, t, _ = events.find_next_event(fl, [events.WallHit(1, R)], mpf(10))
+        assert fn is not None and abs(t - 2) < mpf(10) ** -30
+        liar = _Quartic(mpf("0.3"), floats)
+        liar.max_window = None          # bounds still cut at W, but the search is not told
+        fn, t, _ = events.find_next_event(liar, [events.WallHit(1, R)], mpf(10))
+        assert fn is None or t > 2

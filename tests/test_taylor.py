@@ -166,7 +166,7 @@ def test_flight_interface_bounds_and_jerk():
             assert abs(jerk - num) <= tol("taylor_identity_dps30").atol
             a2 = _deriv(lambda u: fl.jerk(u, *fl.evaluate(u)), t)
             assert abs(a) <= mx and abs(jerk) <= mv and abs(a2) <= ma
-        assert fl.max_window is None and fl.noise_v > 0
+        assert 0 < fl.max_window < 2 * mpmath.pi / scene.mpf("omega") and fl.noise_v > 0
 
 
 def test_rest_set_of_xpot():
