@@ -5,8 +5,9 @@ band flag, settled by ``reference.enclosure.enclose_map``.
   ``Phi'`` (``ENCLOSURE_DIGITS``-digit midpoints, radii rounded up and widened to
   ``golden_enclosure_floor``: a superset of a proved ball is proved), ``radius`` the relative
   radius actually proved for ``Phi`` and ``prec`` the bits it took; else ``reason``.  Under
-  position forcing the first proof is ``position_proof`` (192 bits, ``Phi'`` to the working
-  precision), whose balls also certify the values of ``golden.proved_values``;
+  position forcing the first proof is ``position_proof`` (192 bits, or 256 where 192 is too
+  wide; ``Phi'`` to the working precision), whose balls also certify the values of
+  ``golden.proved_values``;
 * ``band``: whether the reference's itinerary flips under a move of ``compare_band_ulps`` ulps,
   settled by one proof over the box of the moves where one holds;
 * ``ball_within``: the test that a whole ball lies within a relative distance of a value.
@@ -35,20 +36,30 @@ def ball_record(ball) -> list:
     return [mid, radius_text(max(radius, floor.rtol * abs(float(mid)) + floor.atol))]
 
 
-#: bits of a first, cheaper proof under position forcing (issue 33: the validated Taylor steps
-#: cost ~p^2, p = prec ln 2 / 2; at 192 bits a proof of ``Phi`` to ~1e-53 takes half the time of
-#: 320 bits, ample for ``golden_enclosure_floor``); a proof wider than the floor is redone the
-#: usual way (from ``DEFAULT_PREC`` up), as near grazing, where a period loses ~40 digits
-ENCLOSURE_PREC_POSITION = 192
+#: bits of the first, cheaper proofs under position forcing, tried in turn until one is within
+#: ``golden_enclosure_floor`` (issue 33: the validated Taylor steps cost ~p^2, p = prec ln 2 / 2;
+#: at 192 bits a proof of ``Phi`` to ~1e-53 takes half the time of 320 bits, ample for the floor
+#: unless the period loses more than ~15 digits -- ~20 fast impacts, or near grazing -- where 256
+#: bits, at ~1.8x the cost of 192, keep up to ~34); a proof still wider than the floor is redone
+#: the usual way (from ``DEFAULT_PREC`` up), after the dps 90 / 110 pair (``golden``).  Scene W
+#: of issue 33 (``F=3 f=0.3 omega=0.5 l=-2 r=2 wavenumber=2``, one run each): five of its 24
+#: inputs were 1.0e-43 to 1.1e-42 wide at 192 bits and took that road, 12 to 25 CPU s each
+ENCLOSURE_PRECS_POSITION = (192, 256)
 
 
 def position_proof(sc, case, points=None):
-    """The first proof of a position-forced input: ``ENCLOSURE_PREC_POSITION`` bits, the flights'
-    ``Phi'`` to the working precision (``full_derivative``: what ``proved_values`` needs);
-    ``points``: a point log of the input to guide it (``enclose_map``), e.g. ``golden.compute``'s."""
+    """The first proof of a position-forced input: up ``ENCLOSURE_PRECS_POSITION`` while the
+    proof holds but is wider than ``golden_enclosure_floor`` (the last one made is returned),
+    the flights' ``Phi'`` to the working precision (``full_derivative``: what
+    ``proved_values`` needs); ``points``: a point log of the input to guide every rung
+    (``enclose_map``), e.g. ``golden.compute``'s."""
     x, v = _proof_start(case)
-    return enclose_map(sc, x, v, prec=ENCLOSURE_PREC_POSITION, max_prec=ENCLOSURE_PREC_POSITION,
-                       full_derivative=True, points=points)
+    floor = tol("golden_enclosure_floor").rtol
+    for prec in ENCLOSURE_PRECS_POSITION:
+        enc = enclose_map(sc, x, v, prec=prec, max_prec=prec, full_derivative=True, points=points)
+        if not enc.proved or enc.rel_radius() <= floor:
+            break               # more bits help a proof that holds but is wide, not one that fails
+    return enc
 
 
 def _proof_start(case):

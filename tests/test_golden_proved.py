@@ -188,3 +188,29 @@ def test_band_guided_by_the_inputs_own_log_runs_no_point_integrator_and_a_wrong_
     monkeypatch.undo()
     at_rest = scenes.Case("at rest on r", "1.0", "0.0", "float64", "test")
     assert golden_proof.band(sc, at_rest, points) is True
+
+
+def test_a_proof_that_holds_but_is_too_wide_climbs_one_that_fails_does_not(monkeypatch):
+    """``golden_proof.position_proof`` climbs ``ENCLOSURE_PRECS_POSITION`` while its proof holds
+    but is wider than ``golden_enclosure_floor`` (a period that loses ~15 digits at 192 bits):
+    with a first rung of 64 bits (Phi ~1e-10 wide) it goes on to 192 and returns that proof;
+    with 64 alone it returns the wide one (which ``proved_values`` then refuses).  A proof that
+    fails is not tried again with more bits."""
+    from cross_check import golden_proof
+    from reference.enclosure import maps
+
+    sc = scenes.scene(scenes.register(UNSHIPPED) if UNSHIPPED.name not in scenes.SCENES else UNSHIPPED.name)
+    case = _sample(sc, 0)
+    points = golden.compute(sc, case, golden.PROVED_DPS, jacobian=False)["points"]
+    floor = tol("golden_enclosure_floor").rtol
+    monkeypatch.setattr(golden_proof, "ENCLOSURE_PRECS_POSITION", (64, 192))
+    enc = golden_proof.position_proof(sc, case, points)
+    assert enc.proved and enc.prec == 192 and enc.rel_radius() <= floor
+    monkeypatch.setattr(golden_proof, "ENCLOSURE_PRECS_POSITION", (64,))
+    wide = golden_proof.position_proof(sc, case, points)
+    assert wide.proved and wide.prec == 64 and wide.rel_radius() > floor
+    calls = []
+    monkeypatch.setattr(golden_proof, "ENCLOSURE_PRECS_POSITION", (64, 192))
+    monkeypatch.setattr(golden_proof, "enclose_map", lambda *a, **k: calls.append(k["prec"]) or maps.MapEnclosure(
+        False, reason="test: a certificate fails", prec=k["prec"]))
+    assert not golden_proof.position_proof(sc, case, points).proved and calls == [64]
