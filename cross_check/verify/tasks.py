@@ -172,8 +172,12 @@ def _segments(found, tol):
 #: balls); the last Newton step is taken in mean-value form (no enclosure that only confirms
 #: convergence); a rung whose residual ball alone is wider than its box (64 and 96 bits on D's
 #: period-3 orbits: 53 bits lost) fails before its box is walked.  Point logs (periods 1-3):
-#: D 53 -> 20, F 90 -> 31; walks D 81 -> 72, F 132 -> 124.
-PROOF_LADDER = ((64, 2.0 ** -32), (96, 2.0 ** -48), (128, 2.0 ** -64), (320, None))
+#: D 53 -> 20, F 90 -> 31; walks D 81 -> 72, F 132 -> 124.  Third pass: a rung of 192 bits
+#: before 320.  On scene W (``F=3 f=0.3 omega=0.5 l=-2 r=2 wavenumber=2``) two period-3 sticking
+#: saddles (multipliers 1179 and 107) fail up to 128 and took 17 CPU s each at 320; at 192 each
+#: takes 6.9 (W's period-3 proofs 43.7 -> 23.5 s, one run each).  An orbit that needs 320 pays
+#: the failed 192 rung in addition (its Newton steps; the box is not walked).
+PROOF_LADDER = ((64, 2.0 ** -32), (96, 2.0 ** -48), (128, 2.0 ** -64), (192, 2.0 ** -96), (320, None))
 
 
 def _section(sc, x, v, period):
