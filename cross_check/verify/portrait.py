@@ -24,12 +24,15 @@ _MARKERS = {1: "o", 2: "s", 3: "^"}
 #: ``fast``'s ``steps_per_period`` of the shading's first look (``dynamics.portraits.area_classes``;
 #: position forcing, issue 33).  The 120 x 120 pixels' Jacobians were 7.6 of the portrait's ~9
 #: CPU s on scene D (``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``: ~3,000 fixed steps a
-#: period at its fastest pixels); at ``S = 48`` they take 2.95, and no pixel needed the second
-#: look on D, on ``F=1 f=0.2 omega=1 l=-1 r=1 wavenumber=1`` (1.24 -> 0.54) or on issue 33's two
-#: scenes: the same classes (one run each).  A pixel needs its class, not ``Phi'``: the largest
+#: period at its fastest pixels).  A pixel needs its class, not ``Phi'``, and the second look on
+#: the default map takes every pixel the coarse map does not class clearly, so ``S`` is a cost:
+#: at 48, 32 and 24 steps D's shading took 2.97, 2.06 and 1.65 CPU s, scene W's (``F=3 f=0.3
+#: omega=0.5 l=-2 r=2 wavenumber=2``) 7.1, 4.8 and 3.8, with 0, 1 and 2 pixels looked at again,
+#: the same classes (also on ``F=1 f=0.2 omega=1 l=-1 r=1 wavenumber=1`` and issue 33's first
+#: scene, and, where the default map is clear, on 120 random scenes; one run each).  The largest
 #: ``|det - 1|`` on ``Omega_pres`` is 2.0e-10 and 1.6e-11 on D and F at ``S = 48``, 2.1e-10 and
 #: 8.4e-12 at the default 128 (rounding, not truncation, sets it); at ``S = 16``, 1.6e-9 and 3.9e-9.
-PORTRAIT_STEPS = 48
+PORTRAIT_STEPS = 24
 
 
 def _shade(ax, sc, window, pixels):

@@ -271,7 +271,7 @@ def portrait(rec: dict, orbit_parts: list, depth: Depth) -> bytes:
     120 x 120 pixels' Jacobians 7.2 -- ~0.5 ms a state-period in the compensated flights of
     ``fast.ode`` -- and the orbits 0.7; loading the compiled kernels 0.2: a second portrait in
     the same process takes 8.2).  The pixels are now classed on ``fast``'s coarse map first
-    (``portrait.PORTRAIT_STEPS``): D's Jacobians 7.6 -> 2.95 CPU s, the same classes."""
+    (``portrait.PORTRAIT_STEPS``): D's Jacobians 7.6 -> 1.65 CPU s, the same classes."""
     from cross_check.verify import portrait as draw
 
     sc = scenes.scene(scene_of(rec))
