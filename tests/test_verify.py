@@ -230,3 +230,27 @@ def test_the_report_says_what_each_scenes_data_proves():
     got = _result(agreement=boom, **{"scorecard fast": boom})
     text, _ = document.render([rec], {"scenes": {"forced": got}, "workers": 1, "seconds": 1.0}, tasks.FULL)
     assert "- `forced`: 1/1 golden inputs proved" in text and "self-agreement alone" not in text
+
+
+def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch):
+    """``tasks._proof``: a rung that failed on its residual alone (``residual``: ~2^(lost - prec))
+    rules out the rungs whose box that loss cannot fit (``_may_hold``), not the others; a failure
+    of another kind rules out nothing, and the last rung is always tried."""
+    sc = scenes.scene("fig:xpotno")
+    p = type("P", (), {"x": 0.3, "v": 0.2})()
+    monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
+    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a: None)
+    ladder = [prec for prec, _ in tasks.PROOF_LADDER]
+    for residual, tried in ((2.0 ** -11, [64, 128, 192, 320]),      # 53 bits lost: 96's box 2^-48 is out
+                            (2.0 ** 40, [64, 320]),                 # 104 bits lost: only 320 remains
+                            (None, ladder)):                        # another failure: every rung
+        calls = []
+
+        def fake(label, sc, x, v, k, prec, radius, phase, points, residual=residual):
+            calls.append(prec)
+            rec = {"orbit": label, "periods": k, "proved": False, "reason": "test"}
+            return {**rec, "residual": residual} if residual and prec == 64 else rec
+
+        monkeypatch.setattr(tasks, "prove", fake)
+        assert tasks._proof("o", sc, p, 1, None)["proved"] is False and calls == tried
+    assert tasks._may_hold(96, 2.0 ** -48, 53) is False and tasks._may_hold(128, 2.0 ** -64, 53) is True

@@ -201,6 +201,21 @@ def _section(sc, x, v, period):
     return Fraction(ticks % SECTION_GRID, SECTION_GRID), float(xs[0]), float(vs[0])
 
 
+#: how much wider than its box a rung's residual may be predicted to be and the rung still be
+#: tried (``_may_hold``: the prediction is ``2^(lost - prec)``, good to a few bits)
+RESIDUAL_SLACK = 4.0
+
+
+def _may_hold(prec, radius, lost) -> bool:
+    """Whether a rung of ``PROOF_LADDER`` may hold after a lower one lost ``lost`` bits: its
+    residual ``~2^(lost - prec)`` must be within ``RESIDUAL_SLACK`` times the ``2 r`` that the
+    Krawczyk test allows (``r`` the rung's box radius, ``2^-(prec // 3)`` by default).  Scene D
+    (issue 33): its period-3 orbits lose 53 bits at 64, so the rung of 96 (box 2^-48) is
+    skipped and 128 proves them, as it did after 96 failed."""
+    r = 2.0 ** -(prec // 3) if radius is None else radius
+    return 2.0 ** (lost - prec) <= RESIDUAL_SLACK * 2 * r
+
+
 def _proof(label, sc, p, period, seg) -> dict:
     """The Krawczyk proof record of one orbit (``paper.claims.base.prove``), up the
     ``PROOF_LADDER`` (a segment of no-impact fixed points: ``prove_segment`` at its default); a
@@ -213,10 +228,15 @@ def _proof(label, sc, p, period, seg) -> dict:
             return prove(label, sc, p.x, p.v, k=period, segment=seg)
         phase, x, v = _section(sc, p.x, p.v, period)
         guide = point_log(sc, x, v, period, phase, PROOF_LADDER[0][0])
+        lost = 0.0
         for prec, radius in PROOF_LADDER:
+            if not _may_hold(prec, radius, lost) and (prec, radius) != PROOF_LADDER[-1]:
+                continue
             rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase, points=guide)
             if rec["proved"]:
                 return rec
+            if rec.get("residual"):
+                lost = max(lost, math.log2(rec["residual"]) + prec)
         return rec
     except (ValueError, RuntimeError, ArithmeticError) as exc:
         return {"orbit": label, "periods": period, "proved": False, "reason": f"{type(exc).__name__}: {exc}"}

@@ -23,7 +23,9 @@ class OrbitProof:
     the balls ``point = (x, v)``; ``multipliers`` their enclosures (real balls, or
     ``(re, im)`` pairs for a complex pair); ``kind`` the type the enclosures prove and
     ``stability`` what that says (and what it does not); ``itinerary`` the event kinds of one
-    orbit period.  Else ``reason``.
+    orbit period.  Else ``reason``, and ``residual`` where the Krawczyk test failed on the
+    residual alone (the radius of ``C (P(z) - z)``, wider than the box: at ``prec`` bits the
+    walk lost ``~log2(residual) + prec`` bits, which a caller may use to pick its next precision).
     """
 
     proved: bool
@@ -40,6 +42,7 @@ class OrbitProof:
     prec: int = 0
     seconds: float = 0.0
     phase: object = 0
+    residual: float = 0.0
 
 
 def classify(scene, tr, det, kinds):

@@ -166,8 +166,10 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, points=Non
     C = arb_mat(_mid(_inverse(M)))
     head = C * arb_mat([[enc_mid.phi[0] - z[0]], [enc_mid.phi[1] - z[1]]])
     if any(head[i, 0].rad() > 2 * r for i in range(2)):     # rad K >= rad head > 2 r
+        radii = [float(head[i, 0].rad()) for i in range(2)]
         fail.reason = (f"K(Z) is not inside Z (radius {float(r):.1e}): the residual alone, "
-                       f"|C (P(z) - z)|, has radii {[float(head[i, 0].rad()) for i in range(2)]}")
+                       f"|C (P(z) - z)|, has radii {radii}")
+        fail.residual = max(radii)
         return fail
     zt = z if ahead is None else ahead
     d = [zt[0] - z[0], zt[1] - z[1]]
