@@ -235,9 +235,10 @@ def test_the_report_says_what_each_scenes_data_proves():
 def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch):
     """``tasks._proof``: a rung that failed on its residual alone (``residual``: ~2^(lost - prec))
     rules out the rungs whose box that loss cannot fit (``_may_hold``), not the others; a failure
-    of another kind rules out nothing, and the last rung is always tried."""
+    of another kind rules out nothing, and the last rung is always tried.  An orbit that fast
+    finds parabolic is tried on the first rung alone, and its reason says so."""
     sc = scenes.scene("fig:xpotno")
-    p = type("P", (), {"x": 0.3, "v": 0.2})()
+    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle"})()
     monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
     monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a: None)
     ladder = [prec for prec, _ in tasks.PROOF_LADDER]
@@ -254,3 +255,14 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
         monkeypatch.setattr(tasks, "prove", fake)
         assert tasks._proof("o", sc, p, 1, None)["proved"] is False and calls == tried
     assert tasks._may_hold(96, 2.0 ** -48, 53) is False and tasks._may_hold(128, 2.0 ** -64, 53) is True
+    p.kind, calls[:] = "parabolic", []
+    rec = tasks._proof("o", sc, p, 1, None)
+    assert calls == [64] and "parabolic" in rec["reason"]
+
+
+def test_the_proofs_go_to_the_other_orbits_before_the_parabolic_ones():
+    """``tasks._attempted``: ``max_proofs`` orbits in order, those fast finds parabolic last."""
+    kinds = ["parabolic", "saddle", "parabolic", "centre", "saddle"]
+    assert tasks._attempted(kinds, 3) == {1, 3, 4}
+    assert tasks._attempted(kinds, 4) == {0, 1, 3, 4}
+    assert tasks._attempted(kinds[1:2], 16) == {0}

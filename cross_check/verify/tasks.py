@@ -220,7 +220,14 @@ def _proof(label, sc, p, period, seg) -> dict:
     """The Krawczyk proof record of one orbit (``paper.claims.base.prove``), up the
     ``PROOF_LADDER`` (a segment of no-impact fixed points: ``prove_segment`` at its default); a
     proof that raises is a failed one, with the reason.  One point log, from the section's state
-    at the first rung's digits, guides the walks of every rung (``prove_periodic``'s ``points``)."""
+    at the first rung's digits, guides the walks of every rung (``prove_periodic``'s ``points``).
+
+    An orbit that ``fast`` finds parabolic (``|tr P' -+ 2| <= periodic.PARABOLIC_TOL``: ``det(P'
+    - I)`` is ~0, the Krawczyk operator's ``(P' - I)^-1`` ~1e9 or singular, and Newton converges
+    only linearly) is tried on the first rung alone.  Issue 33: on the frictionless scene ``F=2
+    f=0 omega=0.5 l=-1 r=1 wavenumber=2`` 127 of the 138 period-1 points are parabolic (families
+    of fixed points), and each failed up the whole ladder in ~32 CPU s (128 bits: 9.9, 320: 21.9);
+    ``orbits`` gives its ``max_proofs`` to the other orbits first."""
     from reference.enclosure.maps import point_log
 
     try:
@@ -228,23 +235,34 @@ def _proof(label, sc, p, period, seg) -> dict:
             return prove(label, sc, p.x, p.v, k=period, segment=seg)
         phase, x, v = _section(sc, p.x, p.v, period)
         guide = point_log(sc, x, v, period, phase, PROOF_LADDER[0][0])
+        ladder = PROOF_LADDER[:1] if p.kind == "parabolic" else PROOF_LADDER
         lost = 0.0
-        for prec, radius in PROOF_LADDER:
-            if not _may_hold(prec, radius, lost) and (prec, radius) != PROOF_LADDER[-1]:
+        for prec, radius in ladder:
+            if not _may_hold(prec, radius, lost) and (prec, radius) != ladder[-1]:
                 continue
             rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase, points=guide)
             if rec["proved"]:
                 return rec
             if rec.get("residual"):
                 lost = max(lost, math.log2(rec["residual"]) + prec)
+        if ladder is not PROOF_LADDER:
+            rec["reason"] += (f" (parabolic in float64, |tr -+ 2| <= {periodic.PARABOLIC_TOL:g}: "
+                              f"det(P' - I) ~ 0, not taken up the precision ladder)")
         return rec
     except (ValueError, RuntimeError, ArithmeticError) as exc:
         return {"orbit": label, "periods": period, "proved": False, "reason": f"{type(exc).__name__}: {exc}"}
 
 
+def _attempted(kinds, max_proofs) -> set:
+    """The indices of the orbits whose proofs are attempted: ``max_proofs`` of them, in order,
+    those fast finds parabolic after the others (``_proof``: their proofs rarely hold)."""
+    return set(sorted(range(len(kinds)), key=lambda j: kinds[j] == "parabolic")[:max_proofs])
+
+
 def orbits(rec: dict, period: int, depth: Depth) -> list:
     """Period-``period`` orbits: found by Newton from a seed grid, deduplicated, classified,
-    the first ``depth.max_proofs`` proved.  Each a dict (``as_dict`` of the point, ``dissip``,
+    the first ``depth.max_proofs`` proved (those fast finds parabolic after the others:
+    ``_proof``).  Each a dict (``as_dict`` of the point, ``dissip``,
     ``sticks``, the proof record or why none was attempted).
 
     Where the time goes (issue 33, CPU seconds of periods 1 + 2 + 3, one run each, on a loaded
@@ -267,6 +285,7 @@ def orbits(rec: dict, period: int, depth: Depth) -> list:
     flat = [p for p in found if p.kind == "non-isolated"]
     rows = [("orbit", p, None) for p in found if p.kind != "non-isolated"]
     rows += [("segment", g[0], (min(q.x for q in g), max(q.x for q in g))) for g in _segments(flat, 1e-7)]
+    attempted = _attempted([p.kind for _, p, _ in rows], depth.max_proofs)
     out = []
     for j, (what, p, seg) in enumerate(rows):
         pts = p.points
@@ -275,11 +294,12 @@ def orbits(rec: dict, period: int, depth: Depth) -> list:
                "dissip": bool(np.asarray(fast.zero_velocity(sc, pts[:, 0], pts[:, 1])).any()),
                "sticks": bool(kinds & {"stick", "contact"})}
         label = f"period {period} {what} {j}"
-        if j < depth.max_proofs:
+        if j in attempted:
             row["proof"] = _proof(label, sc, p, period, seg)
         else:
             row["proof"] = {"orbit": label, "proved": False,
-                            "reason": f"not attempted: more than {depth.max_proofs} orbits of period {period}"}
+                            "reason": f"not attempted: more than {depth.max_proofs} orbits of period "
+                                      f"{period} (the parabolic ones last)"}
         out.append(row)
     return out
 
