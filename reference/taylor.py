@@ -159,9 +159,10 @@ BOUND_WINDOWS = 8
 
 
 def _fix(a, P):
-    """``round(a 2^P)`` as an int: gmpy2's ``mpz`` where mpmath runs on gmpy2 (``MPZ``), whose
-    products and sums of ~200-bit ints cost ~0.4 of Python's (the fixed-point recurrences are
-    sums of such products; the same integers, so the same bits)."""
+    """``round(a 2^P)`` as an int: gmpy2's ``mpz`` where mpmath runs on gmpy2 (``MPZ``).  The
+    fixed-point recurrences are sums of products of ~200-bit ints, ~60 ns each on ``mpz``
+    against ~140 on Python's ints (one run); ``_main_fixed`` at order 113 takes 843 us against
+    970, the same integers, so the same bits."""
     return MPZ(int(mpmath.nint(mpmath.ldexp(a, P))))
 
 

@@ -179,8 +179,9 @@ def prove(label, scene, x, v, k=1, segment=None, **how) -> dict:
     from the orbit's events).  JSON-ready: ``orbit``, ``periods``, ``proved`` and, if proved,
     the box ``radius``, the fixed point's balls ``point`` at ``t = phase T``, the multipliers
     (``[mid, radius]``, or ``{"re", "im"}`` for a complex pair), ``kind``, ``stability`` and
-    the ``itinerary``; else ``reason`` (and ``residual``, ``OrbitProof``'s, where the test failed on it).  ``segment = (x_lo, x_hi)``: prove the segment of fixed
-    points ``[x_lo, x_hi] x {v*}`` of a no-impact orbit instead (``prove_segment``).  ``how``:
+    the ``itinerary``; else ``reason`` (and ``OrbitProof``'s ``residual`` where the test failed
+    on it).  ``segment = (x_lo, x_hi)``: prove the segment of fixed points ``[x_lo, x_hi] x
+    {v*}`` of a no-impact orbit instead (``prove_segment``).  ``how``:
     ``prove_periodic``'s ``prec``, ``radius`` and ``phase`` (then ``(x, v)`` is the state at
     ``t = phase T``)."""
     p = prove_periodic(scene, x, v, periods=k, **how) if segment is None else prove_segment(scene, *segment, v)
