@@ -18,10 +18,9 @@ from tests.strategies import position_forced_scenes
 
 
 def _pixels(sc, n):
-    """The centres of the portrait's ``n x n`` pixels (``verify.portrait._shade``'s window)."""
+    """The centres of the portrait's ``n x n`` pixels over its window (``verify.portrait.png``)."""
     vmax = tasks.velocity_range(sc)
-    l, r = sc.float("l"), sc.float("r")
-    X, V = np.meshgrid(l + (np.arange(n) + 0.5) / n * (r - l), -vmax + (np.arange(n) + 0.5) / n * 2 * vmax)
+    X, V = portrait.pixel_centres((sc.float("l"), sc.float("r"), -vmax, vmax), n)
     return X.ravel(), V.ravel()
 
 

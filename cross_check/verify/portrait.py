@@ -35,11 +35,17 @@ _MARKERS = {1: "o", 2: "s", 3: "^"}
 PORTRAIT_STEPS = 24
 
 
-def _shade(ax, sc, window, pixels):
-    l, r = sc.float("l"), sc.float("r")
-    xg = l + (np.arange(pixels) + 0.5) / pixels * (r - l)
+def pixel_centres(window, pixels):
+    """``(X, V)``: the centres of the ``pixels x pixels`` grid over ``window = (l, r, v_lo, v_hi)``
+    (rows of equal ``v``)."""
+    xg = window[0] + (np.arange(pixels) + 0.5) / pixels * (window[1] - window[0])
     vg = window[2] + (np.arange(pixels) + 0.5) / pixels * (window[3] - window[2])
-    X, V = np.meshgrid(xg, vg)
+    return np.meshgrid(xg, vg)
+
+
+def _shade(ax, sc, window, pixels):
+    l, r = window[0], window[1]
+    X, V = pixel_centres(window, pixels)
     labels, _ = por.area_classes(sc, X.ravel(), V.ravel(), steps=PORTRAIT_STEPS)
     rgb = np.ones(X.shape + (3,))
     lab = labels.reshape(X.shape)
