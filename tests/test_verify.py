@@ -266,3 +266,13 @@ def test_the_proofs_go_to_the_other_orbits_before_the_parabolic_ones():
     assert tasks._attempted(kinds, 3) == {1, 3, 4}
     assert tasks._attempted(kinds, 4) == {0, 1, 3, 4}
     assert tasks._attempted(kinds[1:2], 16) == {0}
+
+
+def test_a_reason_with_bars_stays_in_its_cell_of_the_orbit_table():
+    """``document._orbit_section``: a failed proof's reason such as ``|C (P(z) - z)|`` has its bars
+    escaped, so its row has the header's columns (it had two more)."""
+    row = {"period": 1, "what": "orbit", "x": 0.5, "v": -0.25, "kind": "saddle", "dissip": False, "sticks": False,
+           "segment": None, "proof": {"proved": False, "reason": "the residual alone, |C (P(z) - z)|, has radii [1, 2]"}}
+    head, _, line = document._orbit_section([row])
+    cells = lambda text: len(re.findall(r"(?<!\\)\|", text))      # noqa: E731
+    assert cells(line) == cells(head) == 10 and "\\|C (P(z) - z)\\|" in line

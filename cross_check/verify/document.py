@@ -145,6 +145,12 @@ def _multipliers(proof):
     return ", ".join(out)
 
 
+def _cell(text, width=160):
+    """``text`` cut to ``width`` characters for a table cell, its ``|`` escaped (a reason such as
+    ``|C (P(z) - z)|`` split its row into more columns than the header)."""
+    return text[:width].replace("|", "\\|")
+
+
 def _orbit_section(orbits):
     if not orbits:
         return ["No periodic point found from the seed grid."]
@@ -160,7 +166,7 @@ def _orbit_section(orbits):
                      f"{pr.get('kind', '-')} | {_multipliers(pr) or '-'} | "
                      f"{pr['radius']:.1e} |" if pr["proved"] else
                      f"| {r['period']} | {where} | {kind} | {'yes' if r['dissip'] else 'no'} | "
-                     f"{'yes' if r['sticks'] else 'no'} | no | - | - | {pr['reason'][:160]} |")
+                     f"{'yes' if r['sticks'] else 'no'} | no | - | - | {_cell(pr['reason'])} |")
     return lines
 
 

@@ -246,8 +246,8 @@ def _proof(label, sc, p, period, seg) -> dict:
             if rec.get("residual"):
                 lost = max(lost, math.log2(rec["residual"]) + prec)
         if ladder is not PROOF_LADDER:
-            rec["reason"] += (f" (parabolic in float64, |tr -+ 2| <= {periodic.PARABOLIC_TOL:g}: "
-                              f"det(P' - I) ~ 0, not taken up the precision ladder)")
+            rec["reason"] = (f"parabolic in float64 (tr within {periodic.PARABOLIC_TOL:g} of +-2: "
+                             f"det(P' - I) ~ 0), tried at {ladder[0][0]} bits only: {rec['reason']}")
         return rec
     except (ValueError, RuntimeError, ArithmeticError) as exc:
         return {"orbit": label, "periods": period, "proved": False, "reason": f"{type(exc).__name__}: {exc}"}
