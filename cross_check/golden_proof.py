@@ -14,7 +14,6 @@ band flag, settled by ``reference.enclosure.enclose_map``.
 """
 from __future__ import annotations
 
-import math
 from fractions import Fraction
 
 import mpmath
@@ -106,9 +105,7 @@ def band(sc, case, points=None) -> bool:
     proofs, with the same flags either way (one run each)."""
     X, V = case.float()
     k = int(tol("compare_band_ulps").rtol)
-    R = sc.float("r") - sc.float("l")
-    ux = math.ulp(max(abs(X), R)) * k
-    uv = math.ulp(max(abs(V), max(sc.float("F"), sc.float("f")) / sc.float("omega"))) * k
+    ux, uv = (float(u) * k for u in compare.ulps(sc, X, V))       # the box that holds every move
     lo, hi = max(Fraction(X) - Fraction(ux), sc.exact("l")), min(Fraction(X) + Fraction(ux), sc.exact("r"))
     for prec in BAND_PRECS:
         if enclose_map(sc, (lo + hi) / 2, Fraction(V), x_radius=(hi - lo) / 2, v_radius=Fraction(uv),

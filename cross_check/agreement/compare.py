@@ -315,13 +315,20 @@ def map_floors(scene, x0: float, v0: float, truth, periods: int, dps: int) -> tu
 
 
 # --- near-grazing band ----------------------------------------------------------------
-def _ulp_moves(scene, X, V, k: int):
-    """The moved starts: ``k`` ulps of ``max(|x|, R)`` and of ``max(|v|, F/w)`` (an ulp of the
-    value, or of its natural scale near zero: a subnormal move of ``v = 0`` means nothing)."""
+def ulps(scene, X, V):
+    """``(ux, uv)``: one ulp of ``max(|x|, R)`` and of ``max(|v|, F/w)``, the unit of the band's
+    moves (an ulp of the value, or of its natural scale near zero: a subnormal move of ``v = 0``
+    means nothing); arrays of ``X``'s shape."""
     X, V = np.asarray(X, float), np.asarray(V, float)
     R = scene.float("r") - scene.float("l")
-    ux = np.spacing(np.maximum(np.abs(X), R))
-    uv = np.spacing(np.maximum(np.abs(V), max(scene.float("F"), scene.float("f")) / scene.float("omega")))
+    return (np.spacing(np.maximum(np.abs(X), R)),
+            np.spacing(np.maximum(np.abs(V), max(scene.float("F"), scene.float("f")) / scene.float("omega"))))
+
+
+def _ulp_moves(scene, X, V, k: int):
+    """The moved starts: ``k`` ulps (``ulps``) in ``x``, in ``v`` and in both."""
+    X, V = np.asarray(X, float), np.asarray(V, float)
+    ux, uv = ulps(scene, X, V)
     moves = []
     for dx, dv in ((k, 0), (-k, 0), (0, k), (0, -k), (k, k), (-k, -k)):
         moves.append((X + dx * ux, V + dv * uv))
