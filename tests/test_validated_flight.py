@@ -210,3 +210,24 @@ def test_the_full_derivative_carries_phi_prime_to_the_working_precision():
                                for i in range(2) for j in range(2))
     assert widest[True] <= bound, widest
     assert widest[False] > bound * 1e10, widest
+
+
+@pytest.mark.parametrize("order", [[n for n in range(30)], [0, 29, 3, 17, 17, 8, 28, 1]])
+def test_the_online_product_is_the_cauchy_product(order):
+    """``series.Online`` on integers (exact balls): every coefficient is the Cauchy product,
+    exactly, asked in turn or out of order, across several blocks."""
+    import random
+
+    from reference.enclosure.series import BLOCK, Online
+
+    assert 30 > 3 * BLOCK            # the products cross several blocks
+    rng = random.Random(7)
+    a = [rng.randint(-10**6, 10**6) for _ in range(30)]
+    b = [rng.randint(-10**6, 10**6) for _ in range(30)]
+    online = Online([arb(x) for x in b])
+    balls = [arb(x) for x in a]
+    for n in order:
+        got = online.coeff(balls, n)
+        assert got.is_exact() and got == arb(sum(a[i] * b[n - i] for i in range(n + 1))), n
+    with pytest.raises(ValueError, match="n < 30"):
+        online.coeff(balls, 30)
