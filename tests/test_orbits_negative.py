@@ -316,3 +316,38 @@ def test_a_box_proof_holds_the_corners_of_its_box(name, x, v):
                 assert enc.phi[1].overlaps(from_mpf(vr) + slack), (dx, dv, enc.phi[1], vr)
                 assert all(enc.jacobian[i][j].overlaps(from_mpf(J[i][j]) + slack)
                            for i in range(2) for j in range(2))
+
+
+def _scripted_map(steps, calls):
+    """A fake ``enclose_map`` whose Newton step at its ``n``-th call is ``(steps[n], 0)``: ``P - id
+    = (d s, 0)`` with ``P' - I = diag(d, 1)``, ``d`` small at the calls whose step is large (a
+    near-singular ``P' - I``, as at a kink of ``P``)."""
+    from reference.enclosure.maps import MapEnclosure
+
+    def fake(scene, x, v, **kw):
+        n = len(calls)
+        calls.append((x, v))
+        s = arb(steps[min(n, len(steps) - 1)])
+        d = arb(2) ** -30 if s.mid() > 0.01 else arb(1)
+        return MapEnclosure(True, phi=(x + d * s, arb(v)), jacobian=[[1 + d, arb(0)], [arb(0), arb(2)]], prec=64)
+    return fake
+
+
+def test_a_newton_that_converges_then_jumps_away_is_refused_as_diverging(monkeypatch):
+    """Newton's steps fall to 1e-5 and then jump to 0.1 (``P' - I`` near-singular at a kink:
+    issue 33's frictionless scene, period-2 saddle at (-0.506, 1.321), whose iterate then left the
+    gap).  Refused as diverging before the far iterate is walked, and without the second pass
+    that a centre failing on its point log gets; its true twin, a wide seed whose first steps
+    grow (from 1e-3 to 0.1: not yet converging), is followed to convergence."""
+    sc = scenes.scene("fig:xpotno")
+    calls = []
+    monkeypatch.setattr(orbits, "enclose_map", _scripted_map([1e-2, 1e-4, 1e-5, 0.1, 1e-9], calls))
+    proof = prove_periodic(sc, "0.1", "0.2", periods=1, phase=Fraction(0), prec=64, points=[])
+    assert not proof.proved and proof.diverged and "Newton diverges" in proof.reason, proof.reason
+    assert len(calls) == 4                       # the iterate 0.1 away is never walked
+    calls.clear()
+    monkeypatch.setattr(orbits, "enclose_map", _scripted_map([1e-3, 0.1, 1e-4, 1e-5, 1e-9], calls))
+    with workprec(64):
+        z, enc, ahead = orbits._newton(sc, [arb("0.1").mid(), arb("0.2").mid()], 1, Fraction(0), 64,
+                                       arb(2) ** -23, [])
+    assert enc.proved and ahead is not None and len(calls) == 5

@@ -236,7 +236,8 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     """``tasks._proof``: a rung that failed on its residual alone (``residual``: ~2^(lost - prec))
     rules out the rungs whose box that loss cannot fit (``_may_hold``), not the others; a failure
     of another kind rules out nothing, and the last rung is always tried.  An orbit that fast
-    finds parabolic is tried on the first rung alone, and its reason says so."""
+    finds parabolic is tried on the first rung alone, and its reason says so; after a rung whose
+    Newton diverged (``diverged``) none is tried."""
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle"})()
     monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
@@ -258,6 +259,14 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     p.kind, calls[:] = "parabolic", []
     rec = tasks._proof("o", sc, p, 1, None)
     assert calls == [64] and "parabolic" in rec["reason"]
+    p.kind, calls[:] = "saddle", []
+
+    def diverging(label, sc, x, v, k, prec, radius, phase, points):
+        calls.append(prec)
+        return {"orbit": label, "periods": k, "proved": False, "reason": "Newton diverges", "diverged": True}
+
+    monkeypatch.setattr(tasks, "prove", diverging)      # no rung after a diverging Newton
+    assert tasks._proof("o", sc, p, 1, None)["diverged"] and calls == [64]
 
 
 def test_the_proofs_go_to_the_other_orbits_before_the_parabolic_ones():

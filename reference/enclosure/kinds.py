@@ -25,7 +25,8 @@ class OrbitProof:
     ``stability`` what that says (and what it does not); ``itinerary`` the event kinds of one
     orbit period.  Else ``reason``, and ``residual`` where the Krawczyk test failed on the
     residual alone (the radius of ``C (P(z) - z)``, wider than the box: at ``prec`` bits the
-    walk lost ``~log2(residual) + prec`` bits, which a caller may use to pick its next precision).
+    walk lost ``~log2(residual) + prec`` bits, which a caller may use to pick its next precision),
+    and ``diverged`` where Newton diverged from the seed (no precision helps).
     """
 
     proved: bool
@@ -43,6 +44,8 @@ class OrbitProof:
     seconds: float = 0.0
     phase: object = 0
     residual: float = 0.0
+    #: Newton diverged from the seed (``orbits.DIVERGE_GROWTH``): more bits take the same path
+    diverged: bool = False
 
 
 def classify(scene, tr, det, kinds):

@@ -45,6 +45,20 @@ NEWTON_STEPS = 30
 STEP_SHARE = 4
 #: the reason of a centre whose walk fails: with a shared point log, the log may have misled it
 UNCENTRED = "at the centre is not proved"
+#: Newton diverges (``_newton``) when a step is more than ``DIVERGE_GROWTH`` times the one before
+#: and that one was at most ``DIVERGE_AFTER`` (the iteration had converged to a few digits: the
+#: first steps of a wide seed may grow).  Then ``P' - I`` is near-singular or ``P`` is not smooth
+#: near the seed, and more bits take the same path, to the same failure.  Issue 33, the
+#: frictionless scene ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2``: a period-2 saddle's steps fell
+#: to 1.7e-6 and then jumped to 0.2, the next one out of the gap; with the walk of each far iterate
+#: and a second pass without the point log, its rungs of 192 and 320 bits took 12 and 25 CPU s.
+DIVERGE_GROWTH = 1e3
+DIVERGE_AFTER = 2.0 ** -12
+DIVERGES = "Newton diverges"
+
+
+class _Diverged(Exception):
+    """``_newton``'s iteration diverges (``DIVERGE_GROWTH``)."""
 
 
 def _mat_sub_identity(J):
@@ -71,7 +85,9 @@ def _newton(scene, z, periods, phase, prec, small=None, points=None):
     ``z - s`` computed from it but not enclosed (``None`` if none: ``enc`` unproved or ``P' - I``
     singular).  The loop ends once the step is at most ``small`` or within the enclosure's own
     noise: ``_krawczyk`` then takes it in mean-value form over the box around ``z`` (issue 33:
-    the enclosure at ``z - s`` only confirmed convergence)."""
+    the enclosure at ``z - s`` only confirmed convergence).  Raises ``_Diverged`` where the
+    steps, once small, grow by ``DIVERGE_GROWTH``: the far iterate is not walked."""
+    last = None
     for _ in range(NEWTON_STEPS):
         enc = enclose_map(scene, z[0], z[1], periods=periods, phase=phase, prec=prec,
                           max_prec=prec, points=points)
@@ -85,7 +101,12 @@ def _newton(scene, z, periods, phase, prec, small=None, points=None):
         if (new == z or all(abs(step[i]) <= 4 * enc.phi[i].rad() for i in range(2))
                 or (small is not None and all(abs(step[i]) <= small for i in range(2)))):
             return z, enc, new      # converged: the step is within the noise, or small enough
-        z = new
+        size = float(max(abs(step[0]), abs(step[1])).upper())
+        if last is not None and last <= DIVERGE_AFTER and size > DIVERGE_GROWTH * last:
+            raise _Diverged(f"{DIVERGES}: its step grew from {last:.1e} to {size:.1e} at "
+                            f"({float(z[0]):.6g}, {float(z[1]):.6g}) (P' - I near-singular, or P "
+                            f"not smooth there; more bits take the same path)")
+        z, last = new, size
     return z, enc, None
 
 
@@ -137,8 +158,12 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
 
 
 def _polished(scene, seed, r, periods, phase, prec, points):
-    """Newton from ``seed`` until its step is at most ``r / STEP_SHARE``, then the Krawczyk test."""
-    z, enc, ahead = _newton(scene, seed, periods, phase, prec, r / STEP_SHARE, points)
+    """Newton from ``seed`` until its step is at most ``r / STEP_SHARE``, then the Krawczyk test
+    (a diverging Newton is a failed proof, with ``diverged``)."""
+    try:
+        z, enc, ahead = _newton(scene, seed, periods, phase, prec, r / STEP_SHARE, points)
+    except _Diverged as exc:
+        return OrbitProof(False, periods, reason=str(exc), prec=prec, radius=float(r), diverged=True)
     return _krawczyk(scene, z, r, periods, phase, prec, enc, ahead, points)
 
 
