@@ -5,8 +5,8 @@ band flag, settled by ``reference.enclosure.enclose_map``.
   ``Phi'`` (``ENCLOSURE_DIGITS``-digit midpoints, radii rounded up and widened to
   ``golden_enclosure_floor``: a superset of a proved ball is proved), ``radius`` the relative
   radius actually proved for ``Phi`` and ``prec`` the bits it took; else ``reason``.  Under
-  position forcing the first proof is ``position_proof`` (192 bits, or 256 where 192 is too
-  wide; ``Phi'`` to the working precision), whose balls also certify the values of
+  position forcing the first proof is ``position_proof`` (192 bits, or up to 256 where 192 is
+  too wide: ``climb``; ``Phi'`` to the working precision), whose balls also certify the values of
   ``golden.proved_values``;
 * ``band``: whether the reference's itinerary flips under a move of ``compare_band_ulps`` ulps,
   settled by one proof over the box of the moves where one holds;
@@ -14,6 +14,7 @@ band flag, settled by ``reference.enclosure.enclose_map``.
 """
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 
 import mpmath
@@ -35,29 +36,51 @@ def ball_record(ball) -> list:
     return [mid, radius_text(max(radius, floor.rtol * abs(float(mid)) + floor.atol))]
 
 
-#: bits of the first, cheaper proofs under position forcing, tried in turn until one is within
-#: ``golden_enclosure_floor`` (issue 33: the validated Taylor steps cost ~p^2, p = prec ln 2 / 2;
-#: at 192 bits a proof of ``Phi`` to ~1e-53 takes half the time of 320 bits, ample for the floor
-#: unless the period loses more than ~15 digits -- ~20 fast impacts, or near grazing -- where 256
-#: bits, at ~1.8x the cost of 192, keep up to ~34); a proof still wider than the floor is redone
-#: the usual way (from ``DEFAULT_PREC`` up), after the dps 90 / 110 pair (``golden``).  Scene W
-#: of issue 33 (``F=3 f=0.3 omega=0.5 l=-2 r=2 wavenumber=2``, one run each): five of its 24
-#: inputs were 1.0e-43 to 1.1e-42 wide at 192 bits and took that road, 12 to 25 CPU s each
+#: bits of the first, cheaper proof under position forcing, and the most that a proof which holds
+#: but is wider than ``golden_enclosure_floor`` is made again with (issue 33: the validated Taylor
+#: steps cost ~p^2, p = prec ln 2 / 2; at 192 bits a proof of ``Phi`` to ~1e-53 takes half the time
+#: of 320 bits, ample for the floor unless the period loses more than ~15 digits -- ~20 fast
+#: impacts, or near grazing -- where 256 bits, at ~1.8x the cost of 192, keep up to ~34); a proof
+#: still wider than the floor is redone the usual way (from ``DEFAULT_PREC`` up), after the dps
+#: 90 / 110 pair (``golden``).  Scene W of issue 33 (``F=3 f=0.3 omega=0.5 l=-2 r=2
+#: wavenumber=2``, one run each): five of its 24 inputs were 1.0e-43 to 1.1e-42 wide at 192 bits
+#: and took that road, 12 to 25 CPU s each
 ENCLOSURE_PRECS_POSITION = (192, 256)
+#: A proof's radius scales as ``2^-prec`` (every remainder is below ``2^-prec`` of the state, and
+#: the period amplifies them all alike): a proof ``rho`` wide at ``prec`` bits is made again at
+#: ``prec + log2(rho / floor) + CLIMB_MARGIN_BITS``, rounded up to ``CLIMB_STEP_BITS`` (at most
+#: the last of ``ENCLOSURE_PRECS_POSITION``).  Measured on scenes W and Y of issue 33 (7 inputs, one
+#: run each): 16 more bits took the radius down by 6.4e4 to 6.7e4 (2^16 = 6.6e4); W's inputs
+#: 1e-43 to 7e-40 wide at 192 bits need 200 to 216 (1.7 to 1.9 CPU s, against 2.3 to 2.9 at 256),
+#: the frictionless Y's 3e-37 wide 224 (1.6 against 2.0).
+CLIMB_MARGIN_BITS = 4
+CLIMB_STEP_BITS = 8
+
+
+def climb(prec: int, radius: float, floor: float) -> int:
+    """The bits to make again a proof ``radius`` wide at ``prec`` bits (``radius > floor``), so
+    that it is within ``floor`` (``CLIMB_MARGIN_BITS``); more than ``prec``."""
+    need = prec + math.log2(radius / floor) + CLIMB_MARGIN_BITS
+    return min(ENCLOSURE_PRECS_POSITION[-1], CLIMB_STEP_BITS * math.ceil(need / CLIMB_STEP_BITS))
 
 
 def position_proof(sc, case, points=None):
-    """The first proof of a position-forced input: up ``ENCLOSURE_PRECS_POSITION`` while the
-    proof holds but is wider than ``golden_enclosure_floor`` (the last one made is returned),
-    the flights' ``Phi'`` to the working precision (``full_derivative``: what
-    ``proved_values`` needs); ``points``: a point log of the input to guide every rung
-    (``enclose_map``), e.g. ``golden.compute``'s."""
+    """The first proof of a position-forced input, at ``ENCLOSURE_PRECS_POSITION[0]`` bits, made
+    again with more bits (:func:`climb`, up to the last of ``ENCLOSURE_PRECS_POSITION``) while it
+    holds but is wider than ``golden_enclosure_floor`` (the last one made is returned); the
+    flights' ``Phi'`` to the working precision (``full_derivative``: what ``proved_values``
+    needs); ``points``: a point log of the input to guide every proof (``enclose_map``), e.g.
+    ``golden.compute``'s.  Each proof has more bits than the one before, so there are at most
+    ``last - first`` of them."""
     x, v = _proof_start(case)
     floor = tol("golden_enclosure_floor").rtol
-    for prec in ENCLOSURE_PRECS_POSITION:
+    first, last = ENCLOSURE_PRECS_POSITION[0], ENCLOSURE_PRECS_POSITION[-1]
+    prec = first
+    for _ in range(last - first + 1):
         enc = enclose_map(sc, x, v, prec=prec, max_prec=prec, full_derivative=True, points=points)
-        if not enc.proved or enc.rel_radius() <= floor:
+        if not enc.proved or enc.rel_radius() <= floor or prec >= last:
             break               # more bits help a proof that holds but is wide, not one that fails
+        prec = climb(prec, enc.rel_radius(), floor)
     return enc
 
 

@@ -191,10 +191,12 @@ def test_band_guided_by_the_inputs_own_log_runs_no_point_integrator_and_a_wrong_
 
 
 def test_a_proof_that_holds_but_is_too_wide_climbs_one_that_fails_does_not(monkeypatch):
-    """``golden_proof.position_proof`` climbs ``ENCLOSURE_PRECS_POSITION`` while its proof holds
-    but is wider than ``golden_enclosure_floor`` (a period that loses ~15 digits at 192 bits):
-    with a first rung of 64 bits (Phi ~1e-10 wide) it goes on to 192 and returns that proof;
-    with 64 alone it returns the wide one (which ``proved_values`` then refuses).  A proof that
+    """``golden_proof.position_proof`` makes a proof again with more bits while it holds but is
+    wider than ``golden_enclosure_floor`` (a period that loses ~15 digits at 192 bits): with a
+    first rung of 64 bits (Phi ~1e-10 wide) and at most 192, it climbs to the bits its measured
+    radius asks for (``climb``: fewer than 192 here) and returns that proof, within the floor; with
+    64 alone it returns the wide one (which ``proved_values`` then refuses).  A proof whose radius
+    does not shrink as predicted climbs again, up to the last rung and no further; a proof that
     fails is not tried again with more bits."""
     from cross_check import golden_proof
     from reference.enclosure import maps
@@ -203,14 +205,19 @@ def test_a_proof_that_holds_but_is_too_wide_climbs_one_that_fails_does_not(monke
     case = _sample(sc, 0)
     points = golden.compute(sc, case, golden.PROVED_DPS, jacobian=False)["points"]
     floor = tol("golden_enclosure_floor").rtol
-    monkeypatch.setattr(golden_proof, "ENCLOSURE_PRECS_POSITION", (64, 192))
-    enc = golden_proof.position_proof(sc, case, points)
-    assert enc.proved and enc.prec == 192 and enc.rel_radius() <= floor
     monkeypatch.setattr(golden_proof, "ENCLOSURE_PRECS_POSITION", (64,))
     wide = golden_proof.position_proof(sc, case, points)
     assert wide.proved and wide.prec == 64 and wide.rel_radius() > floor
-    calls = []
     monkeypatch.setattr(golden_proof, "ENCLOSURE_PRECS_POSITION", (64, 192))
+    enc = golden_proof.position_proof(sc, case, points)
+    assert enc.proved and 64 < enc.prec < 192 and enc.rel_radius() <= floor, (enc.prec, enc.rel_radius())
+    assert all(b.overlaps(w) for b, w in zip(enc.phi, wide.phi))
+    calls = []
+    monkeypatch.setattr(golden_proof, "enclose_map", lambda *a, **k: calls.append(k["prec"]) or maps.MapEnclosure(
+        True, phi=(arb(1, 1e-30), arb(1, 1e-30)), prec=k["prec"]))      # never within the floor
+    assert golden_proof.position_proof(sc, case, points).prec == 192
+    assert calls[0] == 64 and calls[-1] == 192 and calls == sorted(set(calls)) and len(calls) > 2
+    calls.clear()
     monkeypatch.setattr(golden_proof, "enclose_map", lambda *a, **k: calls.append(k["prec"]) or maps.MapEnclosure(
         False, reason="test: a certificate fails", prec=k["prec"]))
     assert not golden_proof.position_proof(sc, case, points).proved and calls == [64]
