@@ -151,14 +151,16 @@ class Field:
         sx, cx = (k * x).sin_cos()
         C, S, E = [cx], [sx], [acb(cx, sx)]          # E = C + i S = exp(i u)
         P = self._forcing(t, order - 1)
-        CP = Online(P)
+        CP, zero, damped = Online(P), acb(0), not c.is_zero()
         for n in range(order - 1):
             if n >= 1:          # n E_n = i sum j u_j E_{n-j}: both recurrences in one dot
-                z = _dot(ju[1:n + 1], E[n - 1::-1], acb(0))
+                z = _dot(ju[1:n + 1], E[n - 1::-1], zero)
                 C.append(-z.imag / n)
                 S.append(z.real / n)
                 E.append(acb(C[n], S[n]))
-            a_n = F * CP.coeff(C, n) - c * (n + 1) * xs[n + 1]
+            a_n = F * CP.coeff(C, n)
+            if damped:
+                a_n -= c * (n + 1) * xs[n + 1]
             if n == 0:
                 a_n -= sf
             xs[n + 2] = a_n / ((n + 1) * (n + 2))
