@@ -326,8 +326,9 @@ def case_entry(sc, case) -> dict:
             res, enc = _self_checked(sc, inp, f"{sc.name} / {case.name} / {label}"), None
             head = {"x": inp.x, "v": inp.v}
         out = entry["inputs"][label] = {**head, **record(sc, res)}
-        if inp.exact == "float64":       # the proved route's run guides the band's proofs too
-            out["band"] = golden_proof.band(sc, inp, res["points"] if enc is not None else None)
+        if inp.exact == "float64":       # the proved route's dps-50 run guides the band's proofs too
+            out["band"] = (golden_proof.band(sc, inp, res["points"], res["events"]) if enc is not None
+                           else golden_proof.band(sc, inp))
         out["enclosure"] = golden_proof.enclosure(sc, inp, enc)
     return entry
 

@@ -114,7 +114,7 @@ def enclosure(sc, case, first=None) -> dict:
 BAND_PRECS = (64, 128)
 
 
-def band(sc, case, points=None) -> bool:
+def band(sc, case, points=None, events=None) -> bool:
     """``compare.reference_in_band`` (the reference's itinerary flips under a move of
     ``compare_band_ulps`` ulps), settled first by a proof: if ``enclose_map`` proves one itinerary
     for every start of the box that holds all the moves (cut to the gap), none flips (issue 33:
@@ -125,7 +125,9 @@ def band(sc, case, points=None) -> bool:
     guides ``position_proof``: the box is a few ulps around the input, and a guide only guides
     (the walk proves every event from the balls).  Without it each proof runs the point
     integrator itself: on scene D (issue 33) 1.9 of the 2.7 CPU s of its 16 inputs' band
-    proofs, with the same flags either way (one run each)."""
+    proofs, with the same flags either way (one run each).  ``events``: that run's events (its
+    dps-50 itinerary is the one the moves are compared with: one reference run fewer where the
+    moves are run)."""
     X, V = case.float()
     k = int(tol("compare_band_ulps").rtol)
     ux, uv = (float(u) * k for u in compare.ulps(sc, X, V))       # the box that holds every move
@@ -134,7 +136,7 @@ def band(sc, case, points=None) -> bool:
         if enclose_map(sc, (lo + hi) / 2, Fraction(V), x_radius=(hi - lo) / 2, v_radius=Fraction(uv),
                        prec=prec, max_prec=prec, points=points).proved:
             return False
-    return compare.reference_in_band(sc, case)
+    return compare.reference_in_band(sc, case, events=events)
 
 
 def midpoints(balls) -> list:

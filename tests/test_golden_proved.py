@@ -161,7 +161,7 @@ def test_band_is_settled_by_the_first_proof_that_holds(monkeypatch):
 
     sc = scenes.scene(scenes.register(UNSHIPPED) if UNSHIPPED.name not in scenes.SCENES else UNSHIPPED.name)
     ran = []
-    monkeypatch.setattr(compare, "reference_in_band", lambda sc, case: ran.append(case) or True)
+    monkeypatch.setattr(compare, "reference_in_band", lambda sc, case, **kw: ran.append(case) or True)
     monkeypatch.setattr(golden_proof, "BAND_PRECS", (64,))
     assert golden_proof.band(sc, _sample(sc, 0)) is False and not ran
     monkeypatch.undo()
@@ -188,6 +188,30 @@ def test_band_guided_by_the_inputs_own_log_runs_no_point_integrator_and_a_wrong_
     monkeypatch.undo()
     at_rest = scenes.Case("at rest on r", "1.0", "0.0", "float64", "test")
     assert golden_proof.band(sc, at_rest, points) is True
+
+
+def test_band_moves_compare_with_the_inputs_own_run(monkeypatch):
+    """Where no proof settles the band (at rest on a wall) the six moves are run and compared with
+    the input's own dps-50 itinerary: given that run's events (``golden.compute``'s, at
+    ``PROVED_DPS``, the digits ``reference_in_band`` runs at) the reference runs the moves alone,
+    with the same flag (the moves up to the first that flips); without them it runs the input
+    too."""
+    import inspect
+
+    from cross_check import golden_proof
+
+    assert inspect.signature(compare.reference_in_band).parameters["dps"].default == golden.PROVED_DPS
+    sc = scenes.scene(scenes.register(UNSHIPPED) if UNSHIPPED.name not in scenes.SCENES else UNSHIPPED.name)
+    at_rest = scenes.Case("at rest on r", "1.0", "0.0", "float64", "test")
+    res = golden.compute(sc, at_rest, golden.PROVED_DPS, jacobian=False)
+    runs, ref_events = [], compare.ref_events
+    monkeypatch.setattr(compare, "ref_events", lambda *a: runs.append(a[1]) or ref_events(*a))
+    monkeypatch.setattr(golden_proof, "BAND_PRECS", ())
+    assert golden_proof.band(sc, at_rest, res["points"], res["events"]) is True
+    moves = [c for c in runs]
+    assert moves and all(c is not at_rest for c in moves)      # up to the first move that flips
+    runs.clear()
+    assert golden_proof.band(sc, at_rest) is True and runs[0] is at_rest and runs[1:] == moves
 
 
 def test_a_proof_that_holds_but_is_too_wide_climbs_one_that_fails_does_not(monkeypatch):

@@ -354,14 +354,17 @@ def band_mask(scene, X, V, ulps: int | None = None) -> np.ndarray:
     return flip
 
 
-def reference_in_band(scene, case, ulps: int | None = None, dps: int = 50) -> bool:
+def reference_in_band(scene, case, ulps: int | None = None, dps: int = 50, events=None) -> bool:
     """True if the reference's one-period itinerary (canonical) from the float64 state
     ``case`` changes under the ``band_mask`` moves: the exact dynamics is ambiguous at
-    float64 resolution there, so no float64 integrator can be held to its itinerary."""
+    float64 resolution there, so no float64 integrator can be held to its itinerary.
+    ``events``: the case's own reference events at ``dps`` digits, if the caller has run them
+    (``golden.compute``), else they are run here."""
     k = int(tol("compare_band_ulps").rtol) if ulps is None else int(ulps)
     l, r = scene.float("l"), scene.float("r")
     X, V = case.float()
-    base = tuple(e.kind for e in canonical(ref_events(scene, case, None, dps), scene))
+    events = ref_events(scene, case, None, dps) if events is None else events
+    base = tuple(e.kind for e in canonical(events, scene))
     for Xm, Vm in _ulp_moves(scene, np.array([X]), np.array([V]), k):
         moved = Case(case.name, repr(float(np.clip(Xm[0], l, r))), repr(float(Vm[0])), "float64", "")
         if tuple(e.kind for e in canonical(ref_events(scene, moved, None, dps), scene)) != base:
