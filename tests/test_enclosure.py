@@ -18,6 +18,7 @@ from cross_check.tolerances import tol
 from reference.enclosure import enclose_map, motion
 from reference.enclosure import certify
 from reference.enclosure.balls import BallModel, from_number, workprec
+from reference.scene import Scene
 from tests.enclosure_checks import DPS, assert_map_contains_the_point_reference, inside
 
 
@@ -102,6 +103,33 @@ def test_unprovable_boxes_say_why(x, v, x_radius, v_radius, words):
     enc = enclose_map(sc, x, v, x_radius=x_radius, v_radius=v_radius, max_prec=320)
     assert not enc.proved
     assert words in enc.reason and len(enc.reason) > 20
+
+
+#: a frictionless scene under position forcing (not shipped): v = 0 is no event there either
+FRICTIONLESS_POSITION = Scene(F=1, f=0, omega=1, l=-1, r=1, wavenumber="0.8", name="test: frictionless position-forced")
+
+
+def _scene_named(name):
+    sc = FRICTIONLESS_POSITION
+    return scenes.scene(name if name != sc.name else
+                        (scenes.register(sc) if sc.name not in scenes.SCENES else sc.name))
+
+
+@pytest.mark.parametrize("name", ["fig:narrow", FRICTIONLESS_POSITION.name])
+def test_a_frictionless_box_whose_velocity_encloses_0_mid_gap_is_proved(name):
+    """Without friction ``v = 0`` is no event (one flight on both sides of it), so a box whose
+    velocity straddles 0 strictly inside the gap is a box like any other: proved, and its balls
+    hold the point reference's ``Phi`` and ``Phi'`` from its centre and from its corners.  The
+    false twins stay refused: the same box with friction (``test_unprovable_boxes_say_why``), and
+    a frictionless one on a wall, where the sign of ``v`` decides between an impact and a flight."""
+    sc = _scene_named(name)
+    radius = mpmath.mpf("1e-30")
+    enc = enclose_map(sc, "0.3", "0", v_radius=radius)
+    assert enc.proved, enc.reason
+    for v in ("0", "-1e-30", "1e-30"):
+        assert_map_contains_the_point_reference(enc, sc, "0.3", v)
+    on_wall = enclose_map(sc, sc.exact("l"), "0", v_radius=radius)     # a dyadic wall: exact
+    assert not on_wall.proved and "velocity encloses 0" in on_wall.reason, on_wall.reason
 
 
 @pytest.mark.parametrize("kwargs, error", [

@@ -131,6 +131,8 @@ class Walk:
         if v0.is_zero():
             return self._start_at_rest(at[0] if at else 0)
         if v0.contains(0):
+            if not (m.friction or at):      # v = 0 is no event without friction: one flight
+                return self.to_flight(0, {})
             raise Unproved("the start's velocity encloses 0 (a start at rest or a grazing start)")
         sign = 1 if v0 > 0 else -1
         if at and at[0] == sign:
