@@ -23,7 +23,8 @@ velocity ``v*`` just before, flight sign ``s`` -- and the flight through it is r
 
 A case is a *single flight* from ``t = 0`` to ``t*``: the certificate below says there is no
 other event before ``t*`` (but ``impact_at_T`` on a gap too narrow for a flight of a whole
-period, which ``impact_at_t`` builds from rest through earlier events and proves forward).  Candidates are screened in float64 first (``construct_position``'s
+period, which ``impact_at_t`` builds from rest, or from a moving start, through earlier events and
+proves forward).  Candidates are screened in float64 first (``construct_position``'s
 backward flight and grid certificate: cheap, and it only orders and drops candidates); the first
 ``MAX_TRIES`` that pass are tried in full:
 

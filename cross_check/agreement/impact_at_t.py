@@ -10,12 +10,15 @@ itinerary from rest, and certified by the forward proof of that itinerary:
    ``v0 = 0``, each run over ``[0, 5T/4]``.  Two neighbours whose event logs agree up to an
    impact at the same wall, one before ``T`` and one after, bracket a start whose impact is at
    ``T`` exactly (the impact time is continuous in ``x0`` while the itinerary before it stays
-   the same);
+   the same).  Where the starts from rest give no bracket that step 2 and 3 accept, the same
+   scan is made at the speeds ``v0 = +-V/2, +-V, +-2V``, ``V = max(F/w, f T)`` (``speeds``: the
+   forced speed, or the speed that friction takes a period to stop, so that a stop does not
+   make every start forget where it began; two significant digits: an exact decimal);
 2. **refine** (fast narrows the bracket, ``_narrowed``; then the reference, ``REFINE_DPS``
    digits): regula falsi (Illinois) on
    ``h(x0) = t_j(x0) - T`` in that bracket, the itinerary before the impact held fixed (a change
    is a ``ConstructionError``), at most ``MAX_REFINE`` runs, to ``|h| < 10^-(STATE_DIGITS + 3)``;
-   the start is ``x0`` to ``STATE_DIGITS`` digits, ``v0 = 0``;
+   the start is ``x0`` to ``STATE_DIGITS`` digits and the bracket's ``v0``;
 3. **certify**: ``reference.enclosure.enclose_map`` proves the start's itinerary over ``[0, T]``
    forward, on validated flights (``reference.enclosure.lohner``): every other event excluded,
    each event time in a ball.  A start it cannot prove is refused.
@@ -40,8 +43,14 @@ REFINE_DPS = 40
 #: the refinement's bound on reference runs per bracket (regula falsi takes ~10 from fast's
 #: bracket; the bound keeps a stalled one to a few seconds)
 MAX_REFINE = 24
-#: brackets tried, nearest the middle of the gap first
+#: brackets from rest tried, nearest the middle of the gap first
 MAX_BRACKETS = 3
+#: the speeds of the other scans, in units of ``V = max(F/w, f T)`` (``speeds``), and the brackets
+#: tried from them after those from rest, the best of each speed first.  Issue 33: on 12 unseen
+#: scenes drawn at random over every parameter and effect, 5 had no bracket from rest, and neither
+#: had the frictionless ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2``
+SPEEDS = (0.5, -0.5, 1, -1, 2, -2)
+MAX_MOVING_BRACKETS = 4
 #: fast's narrowing of a bracket before the reference refines it (``_narrowed``: 64^4 ~ 1.7e7
 #: times narrower; on D, ``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``, the reference's runs
 #: 10 -> 6 runs, 3.1 -> 2.1 CPU s, the same start to its 30 digits)
@@ -50,12 +59,13 @@ NARROW_ROUNDS, NARROW_STARTS = 4, 64
 PREFIX_KINDS = frozenset({"impact", "turn", "stick", "slip"})
 
 
-def _crossings(scene, x):
-    """Indices ``i`` of neighbouring starts from rest ``x[i], x[i + 1]`` (fast, over ``[0, 5T/4]``)
-    whose ``j``-th event is an impact at the same wall, before ``T`` for one and after it for the
-    other, with the same kinds before it."""
+def _crossings(scene, x, v0="0"):
+    """Indices ``i`` of neighbouring starts ``(x[i], v0), (x[i + 1], v0)`` (fast, over
+    ``[0, 5T/4]``; ``v0`` a decimal string, ``"0"``: from rest) whose ``j``-th event is an impact
+    at the same wall, before ``T`` for one and after it for the other, with the same kinds before
+    it."""
     l, r, T = scene.float("l"), scene.float("r"), scene.period
-    logs = fast.events(scene, x, np.zeros_like(x), 1.25 * T)
+    logs = fast.events(scene, x, np.full_like(x, float(v0)), 1.25 * T)
     out = []
     for i in range(len(x) - 1):
         a, b = logs[i], logs[i + 1]
@@ -68,42 +78,58 @@ def _crossings(scene, x):
     return out
 
 
-def _brackets(scene):
-    """``[(x_a, x_b)]``: neighbouring starts of the scan that bracket an impact at ``T``
-    (``_crossings``; step 1 of the module docstring), nearest the middle of the gap first."""
+def speeds(scene) -> list:
+    """The speeds of the scans after the one from rest (``SPEEDS`` times ``max(F/w, f T)``, two
+    significant digits), as decimal strings."""
+    scale = max(scene.float("F") / scene.float("omega"), scene.float("f") * scene.period)
+    return [repr(float(f"{s * scale:.2g}")) for s in SPEEDS]
+
+
+def _scan(scene, v0):
+    """The brackets of the scan at speed ``v0``, nearest the middle of the gap first."""
     l, r = scene.float("l"), scene.float("r")
     x = l + (r - l) * np.arange(1, N_SCAN) / N_SCAN
-    out = [(x[i], x[i + 1]) for i in _crossings(scene, x)]
     mid = (l + r) / 2
-    return sorted(out, key=lambda c: abs(c[0] - mid))[:MAX_BRACKETS]
+    return sorted(((x[i], x[i + 1], v0) for i in _crossings(scene, x, v0)), key=lambda c: abs(c[0] - mid))
 
 
-def _narrowed(scene, xa, xb):
+def _brackets(scene):
+    """``(x_a, x_b, v0)``, lazily: neighbouring starts of a scan that bracket an impact at ``T``
+    (``_crossings``; step 1 of the module docstring): ``MAX_BRACKETS`` from rest, then, scanned
+    only once those are used up, ``MAX_MOVING_BRACKETS`` at the other ``speeds``, the best of
+    each speed first."""
+    yield from _scan(scene, "0")[:MAX_BRACKETS]
+    moving = [_scan(scene, v0) for v0 in speeds(scene)]
+    ranked = [found[rank] for rank in range(N_SCAN - 1) for found in moving if rank < len(found)]
+    yield from ranked[:MAX_MOVING_BRACKETS]
+
+
+def _narrowed(scene, xa, xb, v0="0"):
     """The bracket narrowed by fast: ``NARROW_ROUNDS`` rounds of ``NARROW_STARTS`` starts across
     it, each keeping its first pair that still brackets (``_crossings``); as it stands where fast
     finds none.  The reference's regula falsi then starts ~1e7 times closer to its root."""
     for _ in range(NARROW_ROUNDS):
         x = np.linspace(xa, xb, NARROW_STARTS)
-        hits = _crossings(scene, x)
+        hits = _crossings(scene, x, v0)
         if not hits:
             break
         xa, xb = x[hits[0]], x[hits[0] + 1]
     return xa, xb
 
 
-def _impact_time(scene, x0, j, kinds, T):
-    """``t_j - T`` of the reference from rest at ``x0`` (mpf), its events up to ``j`` of the
-    ``kinds`` (the last an impact); ``ConstructionError`` if they changed."""
-    log = _trajectory(scene, x0, 1.25 * T)
+def _impact_time(scene, x0, j, kinds, T, v0="0"):
+    """``t_j - T`` of the reference from ``(x0, v0)`` (mpf, decimal string), its events up to
+    ``j`` of the ``kinds`` (the last an impact); ``ConstructionError`` if they changed."""
+    log = _trajectory(scene, x0, 1.25 * T, v0)
     got = [e.kind for e in log][:j + 1]
     if got != kinds:
         raise ConstructionError(f"the itinerary changed inside the bracket: {got} != {kinds}")
     return log[j].t - T
 
 
-def _trajectory(scene, x0, t_end):
-    """The reference's event log from rest at ``x0`` over ``[0, t_end]``, at ``REFINE_DPS``."""
-    return reference.trajectory(scene, x0, mpmath.mpf(0), t_end, dps=REFINE_DPS)
+def _trajectory(scene, x0, t_end, v0="0"):
+    """The reference's event log from ``(x0, v0)`` over ``[0, t_end]``, at ``REFINE_DPS``."""
+    return reference.trajectory(scene, x0, mpmath.mpf(v0), t_end, dps=REFINE_DPS)
 
 
 def _nearest_impact(log, T):
@@ -112,24 +138,24 @@ def _nearest_impact(log, T):
     return min(impacts, key=lambda i: abs(log[i].t - T)) if impacts else None
 
 
-def _refine(scene, xa, xb, T, digits):
-    """The start from rest in ``[xa, xb]`` whose impact nearest ``T`` (in the reference's log
-    from ``xa``: event ``j``) is at ``T`` (step 2).  Returns ``(x0, kinds, j)``."""
+def _refine(scene, xa, xb, T, digits, v0="0"):
+    """The start ``(x0, v0)``, ``x0`` in ``[xa, xb]``, whose impact nearest ``T`` (in the
+    reference's log from ``xa``: event ``j``) is at ``T`` (step 2).  Returns ``(x0, kinds, j)``."""
     a, b = mpmath.mpf(xa), mpmath.mpf(xb)
-    log = _trajectory(scene, a, 1.25 * T)
+    log = _trajectory(scene, a, 1.25 * T, v0)
     j = _nearest_impact(log, T)
     if j is None:
-        raise ConstructionError(f"the reference from rest at x0 = {xa!r} meets no wall")
+        raise ConstructionError(f"the reference from (x0, v0) = ({xa!r}, {v0}) meets no wall")
     kinds = [e.kind for e in log][:j + 1]
     if not set(kinds) <= PREFIX_KINDS:
-        raise ConstructionError(f"the reference from rest at x0 = {xa!r} chatters or rests first: {kinds}")
-    ha, hb = log[j].t - T, _impact_time(scene, b, j, kinds, T)
+        raise ConstructionError(f"the reference from (x0, v0) = ({xa!r}, {v0}) chatters or rests first: {kinds}")
+    ha, hb = log[j].t - T, _impact_time(scene, b, j, kinds, T, v0)
     if not ha * hb < 0:
         raise ConstructionError(f"the reference does not bracket an impact at T in [{xa!r}, {xb!r}]")
     side = 0
     for _ in range(MAX_REFINE):
         c = (a * hb - b * ha) / (hb - ha)
-        hc = _impact_time(scene, c, j, kinds, T)
+        hc = _impact_time(scene, c, j, kinds, T, v0)
         if abs(hc) < mpmath.mpf(10) ** -(digits + 3):
             return c, kinds, j
         if hc * ha < 0:
@@ -141,44 +167,51 @@ def _refine(scene, xa, xb, T, digits):
     raise ConstructionError(f"no start with its impact within 1e-{digits + 3} of T after {MAX_REFINE} runs")
 
 
-def _refined(scene, xa, xb, T, digits):
+def _refined(scene, xa, xb, T, digits, v0="0"):
     """``_refine`` on fast's narrowed bracket (``_narrowed``), or on the bracket itself where the
     reference does not bracket the impact inside the narrowed one."""
-    na, nb = _narrowed(scene, xa, xb)
+    na, nb = _narrowed(scene, xa, xb, v0)
     if (na, nb) != (xa, xb):
         try:
-            return _refine(scene, na, nb, T, digits)
+            return _refine(scene, na, nb, T, digits, v0)
         except ConstructionError:
             pass
-    return _refine(scene, xa, xb, T, digits)
+    return _refine(scene, xa, xb, T, digits, v0)
 
 
 def construct(scene, digits: int):
-    """``(HardCase, None)`` or ``(None, why)``: the kind ``impact_at_T`` from rest, through earlier
-    events (module docstring); ``digits``: the start's significant digits."""
-    try:
-        brackets = _brackets(scene)
-    except (ValueError, RuntimeError) as exc:            # fast refused the scan: no candidates
-        return None, f"nor from rest through earlier events: fast's scan failed ({exc})"
-    if not brackets:
-        return None, (f"nor from rest through earlier events: none of {N_SCAN - 1} starts from rest "
-                      f"brackets an impact at T")
-    why = ""
+    """``(HardCase, None)`` or ``(None, why)``: the kind ``impact_at_T`` from rest or from a
+    start at one of ``speeds``, through earlier events (module docstring); ``digits``: the
+    start's significant digits."""
+    why, tried = "", 0
     with mpmath.workdps(REFINE_DPS + 10):
         T = 2 * mpmath.pi / scene.mpf("omega")
-        for xa, xb in brackets:
+        brackets = _brackets(scene)
+        for _ in range(MAX_BRACKETS + MAX_MOVING_BRACKETS):
             try:
-                x0, kinds, j = _refined(scene, xa, xb, T, digits)
+                bracket = next(brackets, None)
+            except (ValueError, RuntimeError) as exc:        # fast refused a scan: no candidates
+                return None, f"nor through earlier events: fast's scan failed ({exc})"
+            if bracket is None:
+                break
+            tried += 1
+            xa, xb, v0 = bracket
+            try:
+                x0, kinds, j = _refined(scene, xa, xb, T, digits, v0)
                 x_text = decimal_text(x0, digits)
-                enc = enclose_map(scene, x_text, "0")
+                enc = enclose_map(scene, x_text, v0)
                 if not enc.proved:
                     raise ConstructionError(f"the forward proof failed: {enc.reason}")
             except (ValueError, RuntimeError, ArithmeticError) as exc:   # ConstructionError among them
                 why = str(exc)
                 continue
             path = ", ".join(kinds[:-1]) or "no earlier event"
-            return HardCase("impact_at_T", x_text, "0", decimal_text(T, digits), "impact",
-                            f"impact at a wall at exactly t = T, from rest through {path} (event {j + 1}); "
+            start = "from rest" if v0 == "0" else f"from x0 at v0 = {v0}"
+            return HardCase("impact_at_T", x_text, v0, decimal_text(T, digits), "impact",
+                            f"impact at a wall at exactly t = T, {start} through {path} (event {j + 1}); "
                             f"certified: the itinerary proved forward (validated flights, enclose_map at "
                             f"{enc.prec} bits: no other event on [0, T])"), None
-    return None, f"nor from rest through earlier events: {why}"
+    if not tried:
+        return None, (f"nor through earlier events: none of {N_SCAN - 1} starts from rest, nor at the "
+                      f"speeds {', '.join(speeds(scene))}, brackets an impact at T")
+    return None, f"nor through earlier events: {why}"
