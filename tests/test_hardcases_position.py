@@ -192,9 +192,37 @@ def test_impact_at_T_from_rest_needs_its_bracket_and_its_forward_proof(monkeypat
         T = 2 * mpmath.pi / sc.mpf("omega")
         with pytest.raises(ConstructionError, match="does not bracket"):
             impact_at_t._refine(sc, x0 - 2e-3, x0 - 1e-3, T, HP.STATE_DIGITS)
-    monkeypatch.setattr(impact_at_t, "enclose_map", lambda *a, **k: MapEnclosure(False, "a failure, injected"))
+    bits = []
+    monkeypatch.setattr(impact_at_t, "enclose_map",
+                        lambda *a, **k: bits.append(k["max_prec"]) or MapEnclosure(False, "a failure, injected"))
     case, why = impact_at_t.construct(sc, HP.STATE_DIGITS)
     assert case is None and "the forward proof failed: a failure, injected" in why
+    assert bits and set(bits) == {impact_at_t.PROOF_MAX_PREC}            # no climb to 1280 bits
+
+
+def test_impact_at_T_at_restitution_0_has_no_impact_before_it():
+    """At restitution 0 an impact leaves no speed, which the enclosure's walk does not follow:
+    no bracket has an impact before the one that crosses ``T`` (its forward proof would fail, up
+    to 1280 bits in vain: an unseen scene drawn by hypothesis), while the same scene at
+    restitution 0.5 has brackets through earlier impacts."""
+    import fast
+
+    base = dict(F="1.28", f="0.124", omega="0.501", l="-1.14", r="1.18", wavenumber="2.214")
+    x = -1.14 + 2.32 * np.arange(1, impact_at_t.N_SCAN) / impact_at_t.N_SCAN
+
+    def earlier_impacts(sc):
+        """For each bracket of the scan from rest, the impacts before the one that crosses T."""
+        T, out = sc.period, []
+        logs = fast.events(sc, x, np.zeros_like(x), 1.25 * T)
+        for i in impact_at_t._crossings(sc, x):
+            a, b = logs[i], logs[i + 1]
+            j = next(j for j, (ea, eb) in enumerate(zip(a, b))
+                     if ea.kind == eb.kind == "impact" and (ea.t - T) * (eb.t - T) < 0)
+            out.append([e.kind for e in a][:j].count("impact"))
+        return out
+
+    assert max(earlier_impacts(Scene(restitution="0.5", **base))) > 0
+    assert set(earlier_impacts(Scene(restitution=0, **base))) <= {0}
 
 
 def test_impact_at_T_narrowed_by_fast_gives_the_same_start_or_falls_back(monkeypatch):
@@ -249,6 +277,40 @@ def test_impact_at_T_from_a_moving_start_where_none_from_rest_brackets_it(monkey
     monkeypatch.setattr(impact_at_t, "_scan", lambda sc, v0: scans.append(v0) or scan(sc, v0))
     case, why = impact_at_t.construct(SCENES["C"], HP.STATE_DIGITS)
     assert why is None and case.v == "0" and scans == ["0"]
+
+
+#: an unseen scene (issue 33, drawn at random) whose force at t = 0 pushes into neither wall
+#: beyond friction; it chatters at l later in the period
+LATE_CHATTER = Scene(F="1.11", f="0.645", omega="2.82", l="-0.41", r="2.32", wavenumber="0.729",
+                     damping="0.095", restitution="0.9", name="test: chatter later in the period")
+
+
+def test_chatter_later_in_the_period_where_the_push_at_t0_is_below_friction(monkeypatch):
+    """``hardcases``' explicit chatter start needs a push beyond ``f`` at ``t = 0``; here there is
+    none, and ``chatter_position`` finds a start whose chatter run comes later: the reference from
+    it at 30 digits has the run, accumulating at the case's time, and the forward proof holds.
+    Refused: a candidate whose reference does not chatter (the screen pointed at a start from rest
+    mid-gap), and one whose proof fails (``enclose_map`` made to say no)."""
+    from cross_check.agreement import chatter_position
+
+    sc = LATE_CHATTER
+    built, notes = {}, {}
+    with mpmath.workdps(hardcases.CONSTRUCT_DPS):
+        hardcases._chatter_case(sc, built, notes)
+    case = built.get("chatter")
+    assert case is not None and "chatter run at l" in case.how and "certified" in case.how, notes
+    with mpmath.workdps(DPS + 10):
+        t_inf = mpmath.mpf(case.t_event)
+        log = reference.trajectory(sc, case.x, case.v, t_inf * (1 + mpmath.mpf("1e-6")), dps=DPS)
+        run = next(e for e in log if e.kind == "chatter")
+        assert abs(run.t - t_inf) < mpmath.mpf(10) ** -15 and abs(run.x - sc.mpf("l")) < mpmath.mpf(10) ** -25
+    monkeypatch.setattr(chatter_position, "candidates", lambda sc, rho: [(0.9, "0", 1.0, 1)])
+    refused, why = chatter_position.construct(sc, hardcases.RHO_MAX)
+    assert refused is None and "does not chatter" in why
+    monkeypatch.undo()
+    monkeypatch.setattr(chatter_position, "enclose_map", lambda *a, **k: MapEnclosure(False, "a failure, injected"))
+    refused, why = chatter_position.construct(sc, hardcases.RHO_MAX)
+    assert refused is None and "a failure, injected" in why
 
 
 @settings(max_examples=4, deadline=None)

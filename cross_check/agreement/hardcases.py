@@ -42,7 +42,8 @@ unambiguous backward run: its last obstacle).  Under position forcing (``F cos(k
 ``F > 0``) the flight has no closed form: every kind but chatter comes from
 ``hardcases_position`` (the reference's Taylor flight run backward, each case a single flight
 certified by a validated one), chatter from ``_chatter_case`` at the wall the force pushes into at
-``t = 0`` (``_push``).
+``t = 0`` (``_push``), or where it pushes into neither beyond friction, from a chatter run later in
+the period that a scan of starts finds and a forward proof certifies (``chatter_position``).
 """
 from __future__ import annotations
 
@@ -331,17 +332,22 @@ def _chatter_case(scene, built, notes):
     _, f, w, l, r = _params(scene)
     F, side, wall, name = _push(scene)
     e = scene.mpf("restitution")
-    if F <= f:
-        notes["chatter"] = ("F <= f: the force never pushes into a wall beyond friction, no chatter"
-                            if name == "r" and scene.mpf("wavenumber") is None else
-                            f"the force at t = 0 pushes into neither wall beyond friction (push "
-                            f"{mpmath.nstr(F, 6)} <= f at wall {name}; a chatter case starts at t = 0)")
-        return
     if f == 0 and e == 1:
         notes["chatter"] = "f = 0 and e = 1: the bounces do not shrink (rho = 1), no chatter"
         return
     if e == 0:
         notes["chatter"] = "restitution 0: an impact ends in contact at once, no run of bounces"
+        return
+    if F <= f and scene.mpf("wavenumber") is None:
+        notes["chatter"] = "F <= f: the force never pushes into a wall beyond friction, no chatter"
+        return
+    if F <= f:              # position forcing: a chatter run later in the period, found forward
+        from cross_check.agreement import chatter_position
+
+        built["chatter"], why = chatter_position.construct(scene, RHO_MAX)
+        if why:
+            notes["chatter"] = (f"the force at t = 0 pushes into neither wall beyond friction (push "
+                                f"{mpmath.nstr(F, 6)} <= f at wall {name}), and no chatter run later: {why}")
         return
     a, b = F + f, F - f
     rho = e * mpmath.sqrt(b / a)

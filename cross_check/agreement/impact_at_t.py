@@ -35,6 +35,7 @@ import fast
 import reference
 from cross_check.agreement.case import ConstructionError, HardCase, decimal_text
 from reference.enclosure import enclose_map
+from reference.enclosure.balls import DEFAULT_PREC
 
 #: starts from rest scanned across the gap by fast
 N_SCAN = 256
@@ -57,6 +58,16 @@ MAX_MOVING_BRACKETS = 4
 NARROW_ROUNDS, NARROW_STARTS = 4, 64
 #: kinds allowed before the impact at T (a chatter tail or contact has no isolated time)
 PREFIX_KINDS = frozenset({"impact", "turn", "stick", "slip"})
+#: the forward proof's most bits: where the walk cannot prove the itinerary at ``DEFAULT_PREC``
+#: (320) on the hard cases seen the cause was structural, and ``enclose_map``'s climb to 1280 bits
+#: cost 3 to 12 CPU s a start (issue 33: an impact with restitution 0 leaves no speed)
+PROOF_MAX_PREC = DEFAULT_PREC
+
+
+def _prefix_kinds(scene) -> frozenset:
+    """``PREFIX_KINDS``, without ``impact`` at restitution 0 (an impact that leaves no speed,
+    which the enclosure's walk does not follow: the forward proof would fail)."""
+    return PREFIX_KINDS - {"impact"} if scene.mpf("restitution") == 0 else PREFIX_KINDS
 
 
 def _crossings(scene, x, v0="0"):
@@ -66,15 +77,17 @@ def _crossings(scene, x, v0="0"):
     it."""
     l, r, T = scene.float("l"), scene.float("r"), scene.period
     logs = fast.events(scene, x, np.full_like(x, float(v0)), 1.25 * T)
-    out = []
+    prefix, out = _prefix_kinds(scene), []
     for i in range(len(x) - 1):
         a, b = logs[i], logs[i + 1]
         for ea, eb in zip(a, b):                       # the common prefix of the two itineraries
-            if ea.kind != eb.kind or ea.kind not in PREFIX_KINDS:
+            if ea.kind != eb.kind or ea.kind not in prefix | {"impact"}:
                 break
             same_wall = (abs(ea.x - r) < abs(ea.x - l)) == (abs(eb.x - r) < abs(eb.x - l))
             if ea.kind == "impact" and same_wall and (ea.t - T) * (eb.t - T) < 0:
                 out.append(i)
+            if ea.kind not in prefix:
+                break
     return out
 
 
@@ -147,7 +160,7 @@ def _refine(scene, xa, xb, T, digits, v0="0"):
     if j is None:
         raise ConstructionError(f"the reference from (x0, v0) = ({xa!r}, {v0}) meets no wall")
     kinds = [e.kind for e in log][:j + 1]
-    if not set(kinds) <= PREFIX_KINDS:
+    if not set(kinds[:-1]) <= _prefix_kinds(scene):
         raise ConstructionError(f"the reference from (x0, v0) = ({xa!r}, {v0}) chatters or rests first: {kinds}")
     ha, hb = log[j].t - T, _impact_time(scene, b, j, kinds, T, v0)
     if not ha * hb < 0:
@@ -199,7 +212,7 @@ def construct(scene, digits: int):
             try:
                 x0, kinds, j = _refined(scene, xa, xb, T, digits, v0)
                 x_text = decimal_text(x0, digits)
-                enc = enclose_map(scene, x_text, v0)
+                enc = enclose_map(scene, x_text, v0, max_prec=PROOF_MAX_PREC)
                 if not enc.proved:
                     raise ConstructionError(f"the forward proof failed: {enc.reason}")
             except (ValueError, RuntimeError, ArithmeticError) as exc:   # ConstructionError among them
