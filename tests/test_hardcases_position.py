@@ -208,7 +208,7 @@ def test_impact_at_T_at_restitution_0_has_no_impact_before_it():
     import fast
 
     base = dict(F="1.28", f="0.124", omega="0.501", l="-1.14", r="1.18", wavenumber="2.214")
-    x = -1.14 + 2.32 * np.arange(1, impact_at_t.N_SCAN) / impact_at_t.N_SCAN
+    x = impact_at_t.scan_grid(Scene(**base))
 
     def earlier_impacts(sc):
         """For each bracket of the scan from rest, the impacts before the one that crosses T."""

@@ -28,7 +28,7 @@ import numpy as np
 import fast
 import reference
 from cross_check.agreement.case import HardCase, decimal_text
-from cross_check.agreement.impact_at_t import N_SCAN, PROOF_MAX_PREC, speeds
+from cross_check.agreement.impact_at_t import N_SCAN, PROOF_MAX_PREC, scan_grid, speeds
 from reference.enclosure import enclose_map
 
 #: a chatter run must accumulate before this fraction of the period (its contact and release
@@ -40,6 +40,9 @@ X_DIGITS = 8
 CHECK_DPS = 30
 #: candidates tried through the reference and the proof
 MAX_TRIES = 3
+#: significant digits of the case's event time, the accumulation time (the reference's at
+#: ``CHECK_DPS`` digits)
+T_DIGITS = 20
 
 
 def _push(scene, side, t):
@@ -70,9 +73,7 @@ def _chattering(scene, x, v0, rho_max):
 def candidates(scene, rho_max):
     """``[(x0, v0, t_inf, side)]``: starts whose fast log chatters (step 1), the middle of the
     longest run of neighbouring chattering starts of each scan first, scans from rest first."""
-    l, r = scene.float("l"), scene.float("r")
-    x = l + (r - l) * np.arange(1, N_SCAN) / N_SCAN
-    out = []
+    x, out = scan_grid(scene), []
     for v0 in ["0"] + speeds(scene):
         hits = _chattering(scene, x, v0, rho_max)
         runs, run = [], []
@@ -86,11 +87,6 @@ def candidates(scene, rho_max):
             i, t_inf, side = run[len(run) // 2]
             out.append((x[i], v0, t_inf, side))
     return out
-
-
-#: significant digits of the case's event time, the accumulation time (the reference's at
-#: ``CHECK_DPS`` digits)
-T_DIGITS = 20
 
 
 def construct(scene, rho_max):

@@ -98,11 +98,15 @@ def speeds(scene) -> list:
     return [repr(float(f"{s * scale:.2g}")) for s in SPEEDS]
 
 
+def scan_grid(scene):
+    """The starting positions of a scan: ``x0 = l + (r - l) i / N_SCAN``, ``0 < i < N_SCAN``."""
+    l, r = scene.float("l"), scene.float("r")
+    return l + (r - l) * np.arange(1, N_SCAN) / N_SCAN
+
+
 def _scan(scene, v0):
     """The brackets of the scan at speed ``v0``, nearest the middle of the gap first."""
-    l, r = scene.float("l"), scene.float("r")
-    x = l + (r - l) * np.arange(1, N_SCAN) / N_SCAN
-    mid = (l + r) / 2
+    x, mid = scan_grid(scene), (scene.float("l") + scene.float("r")) / 2
     return sorted(((x[i], x[i + 1], v0) for i in _crossings(scene, x, v0)), key=lambda c: abs(c[0] - mid))
 
 
