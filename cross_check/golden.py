@@ -263,7 +263,17 @@ def outside_proof(res: dict, enc, sc) -> str | None:
     return None
 
 
-def proved_values(sc, case):
+def first_proof(sc, case):
+    """``(res, enc)``: a position-forced input's ``PROVED_DPS`` run (no Jacobian) and its proof
+    guided by that run's point log (``golden_proof.position_proof``); ``None`` without position
+    forcing."""
+    if not sc.has("position_forcing"):
+        return None
+    res = compute(sc, case, PROVED_DPS, jacobian=False)
+    return res, golden_proof.position_proof(sc, case, res["points"])
+
+
+def proved_values(sc, case, first=None):
     """``(res, enc)``: a position-forced input's values from one ``PROVED_DPS`` run and its
     Jacobian from its proof's balls (their midpoints: ``Phi'`` to ~1e-47, ``full_derivative``),
     every one certified by that proof (``outside_proof``), or ``None`` where that does not hold
@@ -279,22 +289,61 @@ def proved_values(sc, case):
     its cost (2.6 of 5.6 CPU s on D's first 8 inputs); the proof computes ``Phi'`` anyway, to
     1e-47, so the run no longer does: D's golden task 30.5 -> 24.7 CPU s in a full verify, every
     written string the same (one run each)."""
-    if not sc.has("position_forcing"):
+    first = first_proof(sc, case) if first is None else first
+    if first is None:
         return None
-    res = compute(sc, case, PROVED_DPS, jacobian=False)
-    enc = golden_proof.position_proof(sc, case, res["points"])
+    res, enc = first
     if not enc.proved or enc.jacobian is None:
         return None
-    res["jacobian"], res["jacobian_note"] = golden_proof.midpoints(enc.jacobian), None
+    res = {**res, "jacobian": golden_proof.midpoints(enc.jacobian), "jacobian_note": None}
     return (res, enc) if outside_proof(res, enc, sc) is None else None
 
 
-def _self_checked(sc, case, where) -> dict:
-    """The dps-90 run of ``case`` once a dps-110 run agrees with it (else ``GoldenError``)."""
-    res, check = compute(sc, case, GOLDEN_DPS), compute(sc, case, CHECK_DPS)
+#: ``jacobian_note`` of a dps 90 / 110 input whose ``Phi'`` comes from its proof (``_self_checked``)
+PROVED_JACOBIAN = ("from the midpoints of its enclosure's balls, each within golden_proved_agreement x "
+                   "kappa of the true Phi' (the dps 90 / 110 runs check the other values)")
+
+
+def _pins_jacobian(enc) -> bool:
+    """``enc`` is a proof within ``golden_enclosure_floor`` with a Jacobian."""
+    return (enc is not None and enc.proved and enc.jacobian is not None
+            and enc.rel_radius() <= tol("golden_enclosure_floor").rtol)
+
+
+def proved_jacobian(sc, res, enc):
+    """``Phi'`` of an input from its proof ``enc`` (the balls' midpoints), where that proof holds
+    within ``golden_enclosure_floor``, has the run ``res``'s itinerary and pins every entry within
+    ``golden_proved_agreement`` times ``kappa`` (the test of ``outside_proof``); else ``None``."""
+    if not _pins_jacobian(enc):
+        return None
+    proof_events = [compare.Event(e.kind, e.t, e.x, e.v, e.v_before, e.count) for e in enc.events]
+    if ([e.kind for e in compare.canonical(res["events"], sc)]
+            != [e.kind for e in compare.canonical(proof_events, sc)]):
+        return None
+    jac, rtol = golden_proof.midpoints(enc.jacobian), tol("golden_proved_agreement").rtol * kappa(sc, res)
+    if all(golden_proof.ball_within(jac[i][j], enc.jacobian[i][j], rtol) for i in range(2) for j in range(2)):
+        return jac
+    return None
+
+
+def _self_checked(sc, case, where, enc=None) -> dict:
+    """The dps-90 run of ``case`` once a dps-110 run agrees with it (else ``GoldenError``).
+
+    ``enc``: the input's proof, if one was made (``first_proof``).  Where it holds within the
+    floor, the two runs skip the Jacobian (Table 1's product, 46% of a position-forced run) and
+    ``Phi'`` comes from the proof (``proved_jacobian``; ``jacobian_note`` says so), else they
+    compute it.  Issue 33: a chatter input, whose proof pins ``Phi`` to ~1e-54 but the
+    accumulation time only to ~1e-11, takes this route on every position-forced scene."""
+    from_proof = _pins_jacobian(enc)
+    res, check = (compute(sc, case, dps, jacobian=not from_proof) for dps in (GOLDEN_DPS, CHECK_DPS))
     why = disagreement(res, check, sc)
     if why is not None:
         raise GoldenError(f"{where}: dps {GOLDEN_DPS} vs {CHECK_DPS}: {why}")
+    if from_proof:
+        jac = proved_jacobian(sc, res, enc)
+        if jac is None:                      # the proof does not pin it: the runs compute it
+            return _self_checked(sc, case, where)
+        res["jacobian"], res["jacobian_note"] = jac, PROVED_JACOBIAN
     return res
 
 
@@ -319,15 +368,17 @@ def case_entry(sc, case) -> dict:
     entry = {"name": case.name, "exact": case.exact, "x": case.x, "v": case.v, "how": case.how,
              "constructed_kind": case.kind or None, "t_event": case.t_event or None, "inputs": {}}
     for label, inp in inputs.items():
-        proved = proved_values(sc, inp)
+        first = first_proof(sc, inp)
+        proved = proved_values(sc, inp, first)
         if proved is not None:
             (res, enc), head = proved, {"x": inp.x, "v": inp.v, "dps": PROVED_DPS}
         else:       # its proof is made again, unguided, as ``prove --golden`` makes it (input_proof)
-            res, enc = _self_checked(sc, inp, f"{sc.name} / {case.name} / {label}"), None
+            where = f"{sc.name} / {case.name} / {label}"
+            res, enc = _self_checked(sc, inp, where, None if first is None else first[1]), None
             head = {"x": inp.x, "v": inp.v}
         out = entry["inputs"][label] = {**head, **record(sc, res)}
-        if inp.exact == "float64":       # the proved route's dps-50 run guides the band's proofs too
-            out["band"] = (golden_proof.band(sc, inp, res["points"], res["events"]) if enc is not None
+        if inp.exact == "float64":       # a dps-50 run (position forcing) guides the band's proofs too
+            out["band"] = (golden_proof.band(sc, inp, first[0]["points"], first[0]["events"]) if first
                            else golden_proof.band(sc, inp))
         out["enclosure"] = golden_proof.enclosure(sc, inp, enc)
     return entry

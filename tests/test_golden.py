@@ -187,8 +187,8 @@ def test_every_scene_regenerates_byte_identical(name):
 def test_failed_self_agreement_writes_nothing(tmp_path, monkeypatch):
     real = golden.compute
 
-    def shaky(sc, case, dps):
-        out = real(sc, case, dps)
+    def shaky(sc, case, dps, **kw):
+        out = real(sc, case, dps, **kw)
         if dps == golden.CHECK_DPS:
             out["phi"] = (out["phi"][0] * (1 + mpmath.mpf(10) ** -35), out["phi"][1])
         return out

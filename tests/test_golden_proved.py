@@ -245,3 +245,34 @@ def test_a_proof_that_holds_but_is_too_wide_climbs_one_that_fails_does_not(monke
     monkeypatch.setattr(golden_proof, "enclose_map", lambda *a, **k: calls.append(k["prec"]) or maps.MapEnclosure(
         False, reason="test: a certificate fails", prec=k["prec"]))
     assert not golden_proof.position_proof(sc, case, points).proved and calls == [64]
+
+
+def test_a_pair_route_input_takes_its_jacobian_from_its_proof_where_the_proof_pins_it():
+    """A chatter start (``hardcases``' explicit start at ``r``): its proof pins ``Phi`` but the
+    accumulation time only to ~1e-11, so the dps 90 / 110 runs check its values
+    (``_self_checked``).  They skip the Jacobian, which comes from the proof (``jacobian_note``
+    says so), and the written strings are those of the dps-90 run's own Jacobian.  Refused
+    (``proved_jacobian`` gives ``None``): the proof's Jacobian balls widened beyond
+    ``golden_proved_agreement`` x kappa, and the proof of another input (another itinerary)."""
+    import dataclasses
+
+    from cross_check.agreement import hardcases
+
+    sc = scenes.scene(scenes.register(UNSHIPPED) if UNSHIPPED.name not in scenes.SCENES else UNSHIPPED.name)
+    built, notes = {}, {}
+    with mpmath.workdps(hardcases.CONSTRUCT_DPS):
+        hardcases._chatter_case(sc, built, notes)
+    hc = built["chatter"]
+    case = scenes.Case(hc.name, hc.x, hc.v, "decimal", hc.how, hc.kind, hc.t_event)
+    first = golden.first_proof(sc, case)
+    assert golden.proved_values(sc, case, first) is None and first[1].proved     # the pair route
+    res = golden._self_checked(sc, case, "test", first[1])
+    assert res["jacobian_note"] == golden.PROVED_JACOBIAN
+    own = golden.compute(sc, case, golden.GOLDEN_DPS)
+    assert golden.record(sc, res)["jacobian"] == golden.record(sc, own)["jacobian"]
+    with workprec(first[1].prec):
+        wide = dataclasses.replace(first[1], jacobian=[[arb(b.mid(), 1e-30) for b in row] for row in first[1].jacobian])
+        assert golden.proved_jacobian(sc, res, wide) is None
+    other = golden.first_proof(sc, _sample(sc, 0))[1]
+    assert other.proved and [e.kind for e in other.events] != [e.kind for e in first[1].events]
+    assert golden.proved_jacobian(sc, res, other) is None
