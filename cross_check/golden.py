@@ -245,9 +245,8 @@ def outside_proof(res: dict, enc, sc) -> str | None:
         return f"not proved: {enc.reason}"
     if enc.rel_radius() > floor:
         return f"proved Phi {enc.rel_radius():.1e} wide, above golden_enclosure_floor {floor:g}"
-    balls = {"phi": enc.phi, "jacobian": enc.jacobian,
-             "events": [compare.Event(e.kind, e.t, e.x, e.v, e.v_before, e.count) for e in enc.events]}
-    a, b = {**res, "events": compare.canonical(res["events"], sc)}, {**balls, "events": compare.canonical(balls["events"], sc)}
+    a = {**res, "events": compare.canonical(res["events"], sc)}
+    b = {"phi": enc.phi, "jacobian": enc.jacobian, "events": _proved_events(enc, sc)}
     if [e.kind for e in a["events"]] != [e.kind for e in b["events"]]:
         return f"itineraries differ: {[e.kind for e in a['events']]} vs proved {[e.kind for e in b['events']]}"
     if (a["jacobian"] is None) != (b["jacobian"] is None):
@@ -257,9 +256,22 @@ def outside_proof(res: dict, enc, sc) -> str | None:
         values, balls = _values(a, jac), _values(b, jac)
         if len(values) != len(balls):
             return "the proof's events carry other values than the point run's"
-        for value, ball in zip(values, balls):
-            if not golden_proof.ball_within(value, ball, rtol * scale):
-                return f"value {mpmath.nstr(value, 45)} not within {rtol * scale:g} of all of its proved ball {ball}"
+        why = _unpinned(values, balls, rtol * scale)
+        if why is not None:
+            return why
+    return None
+
+
+def _proved_events(enc, sc) -> list:
+    """The events of the proof ``enc`` as ``compare.Event`` balls, in canonical form."""
+    return compare.canonical([compare.Event(e.kind, e.t, e.x, e.v, e.v_before, e.count) for e in enc.events], sc)
+
+
+def _unpinned(values, balls, rtol) -> str | None:
+    """Why some ``value`` is not within ``rtol`` of all of its ball (``golden_proof.ball_within``)."""
+    for value, ball in zip(values, balls):
+        if not golden_proof.ball_within(value, ball, rtol):
+            return f"value {mpmath.nstr(value, 45)} not within {rtol:g} of all of its proved ball {ball}"
     return None
 
 
@@ -316,14 +328,11 @@ def proved_jacobian(sc, res, enc):
     ``golden_proved_agreement`` times ``kappa`` (the test of ``outside_proof``); else ``None``."""
     if not _pins_jacobian(enc):
         return None
-    proof_events = [compare.Event(e.kind, e.t, e.x, e.v, e.v_before, e.count) for e in enc.events]
-    if ([e.kind for e in compare.canonical(res["events"], sc)]
-            != [e.kind for e in compare.canonical(proof_events, sc)]):
+    if [e.kind for e in compare.canonical(res["events"], sc)] != [e.kind for e in _proved_events(enc, sc)]:
         return None
     jac, rtol = golden_proof.midpoints(enc.jacobian), tol("golden_proved_agreement").rtol * kappa(sc, res)
-    if all(golden_proof.ball_within(jac[i][j], enc.jacobian[i][j], rtol) for i in range(2) for j in range(2)):
-        return jac
-    return None
+    flat = lambda m: [m[i][j] for i in range(2) for j in range(2)]       # noqa: E731
+    return jac if _unpinned(flat(jac), flat(enc.jacobian), rtol) is None else None
 
 
 def _self_checked(sc, case, where, enc=None) -> dict:
@@ -351,10 +360,8 @@ def input_proof(sc, case, dps=None) -> dict:
     """The proof record of an input as ``case_entry`` made it (``prove --golden`` makes it again):
     an input whose values came from ``proved_values`` (its ``dps`` is ``PROVED_DPS``) was proved
     on that run's point log, any other one by ``golden_proof.enclosure`` alone."""
-    first = None
-    if dps == PROVED_DPS and sc.has("position_forcing"):
-        first = golden_proof.position_proof(sc, case, compute(sc, case, PROVED_DPS, jacobian=False)["points"])
-    return golden_proof.enclosure(sc, case, first)
+    first = first_proof(sc, case) if dps == PROVED_DPS else None
+    return golden_proof.enclosure(sc, case, first and first[1])
 
 
 def case_entry(sc, case) -> dict:
