@@ -270,6 +270,7 @@ def test_impact_at_T_from_a_moving_start_where_none_from_rest_brackets_it(monkey
         walls = (sc.mpf("l"), sc.mpf("r"))
         assert abs(near.t - T) < mpmath.mpf(10) ** -20 and min(abs(near.x - w) for w in walls) < mpmath.mpf(10) ** -25
     monkeypatch.setattr(impact_at_t, "SPEEDS", ())
+    monkeypatch.setattr(impact_at_t, "MORE_SPEEDS", ())
     case, why = impact_at_t.construct(sc, HP.STATE_DIGITS)
     assert case is None and "brackets an impact at T" in why
     monkeypatch.undo()
@@ -277,6 +278,31 @@ def test_impact_at_T_from_a_moving_start_where_none_from_rest_brackets_it(monkey
     monkeypatch.setattr(impact_at_t, "_scan", lambda sc, v0: scans.append(v0) or scan(sc, v0))
     case, why = impact_at_t.construct(SCENES["C"], HP.STATE_DIGITS)
     assert why is None and case.v == "0" and scans == ["0"]
+
+
+#: an unseen scene (issue 33, drawn at random: restitution 0.6 and damping) where every start up
+#: to 2V, from rest or moving, chatters into contact before T
+FAST_START = Scene(F="2.45", f="0.803", omega="1.63", l="-1.3", r="-0.31", wavenumber="1.455",
+                   damping="0.171", restitution="0.6", name="test: impact at T from a fast start")
+
+
+def test_impact_at_T_from_a_fast_start_where_every_slower_one_dies_into_contact(monkeypatch):
+    """No scan of ``SPEEDS`` (up to ``2V``) brackets an impact at ``T``; one of ``MORE_SPEEDS``
+    does, and the case is built from it, certified: the reference from it meets an impact at a
+    wall within 1e-20 of ``T``.  Without ``MORE_SPEEDS`` it is not built, and says why."""
+    sc = FAST_START
+    assert all(impact_at_t._scan(sc, v0) == [] for v0 in ["0"] + impact_at_t.speeds(sc))
+    case, why = impact_at_t.construct(sc, HP.STATE_DIGITS)
+    assert why is None and case.v in impact_at_t.speeds(sc, impact_at_t.MORE_SPEEDS), why
+    with mpmath.workdps(DPS + 10):
+        T = 2 * mpmath.pi / sc.mpf("omega")
+        log = reference.trajectory(sc, case.x, case.v, T * (1 + mpmath.mpf("1e-6")), dps=DPS)
+        near = min((e for e in log if e.kind == "impact"), key=lambda e: abs(e.t - T))
+        walls = (sc.mpf("l"), sc.mpf("r"))
+        assert abs(near.t - T) < mpmath.mpf(10) ** -20 and min(abs(near.x - w) for w in walls) < mpmath.mpf(10) ** -25
+    monkeypatch.setattr(impact_at_t, "MORE_SPEEDS", ())
+    case, why = impact_at_t.construct(sc, HP.STATE_DIGITS)
+    assert case is None and "brackets an impact at T" in why
 
 
 #: an unseen scene (issue 33, drawn at random) whose force at t = 0 pushes into neither wall
@@ -290,7 +316,8 @@ def test_chatter_later_in_the_period_where_the_push_at_t0_is_below_friction(monk
     none, and ``chatter_position`` finds a start whose chatter run comes later: the reference from
     it at 30 digits has the run, accumulating at the case's time, and the forward proof holds.
     Refused: a candidate whose reference does not chatter (the screen pointed at a start from rest
-    mid-gap), and one whose proof fails (``enclose_map`` made to say no)."""
+    mid-gap), and one whose proof fails (``enclose_map`` made to say no).  No speed is scanned
+    after the one that gives the case."""
     from cross_check.agreement import chatter_position
 
     sc = LATE_CHATTER
@@ -304,13 +331,63 @@ def test_chatter_later_in_the_period_where_the_push_at_t0_is_below_friction(monk
         log = reference.trajectory(sc, case.x, case.v, t_inf * (1 + mpmath.mpf("1e-6")), dps=DPS)
         run = next(e for e in log if e.kind == "chatter")
         assert abs(run.t - t_inf) < mpmath.mpf(10) ** -15 and abs(run.x - sc.mpf("l")) < mpmath.mpf(10) ** -25
-    monkeypatch.setattr(chatter_position, "candidates", lambda sc, rho: [(0.9, "0", 1.0, 1)])
+    monkeypatch.setattr(chatter_position, "candidates", lambda sc, rho: iter([(0.9, "0", 1.0, 1)]))
     refused, why = chatter_position.construct(sc, hardcases.RHO_MAX)
     assert refused is None and "does not chatter" in why
     monkeypatch.undo()
     monkeypatch.setattr(chatter_position, "enclose_map", lambda *a, **k: MapEnclosure(False, "a failure, injected"))
     refused, why = chatter_position.construct(sc, hardcases.RHO_MAX)
     assert refused is None and "a failure, injected" in why
+    monkeypatch.undo()
+    scanned, chattering = [], chatter_position._chattering      # no scan after the case's speed
+    monkeypatch.setattr(chatter_position, "_chattering", lambda sc, x, v0, rho: scanned.append(v0) or chattering(sc, x, v0, rho))
+    again, _ = chatter_position.construct(sc, hardcases.RHO_MAX)
+    assert again == case and scanned == (["0"] + impact_at_t.speeds(sc))[:len(scanned)] and scanned[-1] == case.v
+
+
+#: an unseen scene (issue 33, drawn at random: restitution 0.9, no damping) whose push at t = 0 is
+#: below friction at both walls, and whose chatter runs start from a band of slow starts that
+#: falls between ``impact_at_t.SPEEDS``
+SLOW_CHATTER = Scene(F="1.21", f="0.219", omega="1.3", l="-0.69", r="1.05", wavenumber="1.991",
+                     restitution="0.9", name="test: chatter from a slow start")
+
+
+def test_chatter_from_a_slow_start_between_the_coarse_speeds(monkeypatch):
+    """No start from rest or at ``speeds`` chatters before ``CHATTER_BY T``; one at
+    ``CHATTER_SPEEDS`` does: the reference from it has the run at ``r``, accumulating at the
+    case's time.  Without ``CHATTER_SPEEDS`` it is not built, and says why."""
+    from cross_check.agreement import chatter_position
+
+    sc = SLOW_CHATTER
+    case, why = chatter_position.construct(sc, hardcases.RHO_MAX)
+    assert why is None and case.v in impact_at_t.speeds(sc, chatter_position.CHATTER_SPEEDS), why
+    with mpmath.workdps(DPS + 10):
+        t_inf = mpmath.mpf(case.t_event)
+        log = reference.trajectory(sc, case.x, case.v, t_inf * (1 + mpmath.mpf("1e-6")), dps=DPS)
+        run = next(e for e in log if e.kind == "chatter")
+        assert abs(run.t - t_inf) < mpmath.mpf(10) ** -15 and abs(run.x - sc.mpf("r")) < mpmath.mpf(10) ** -25
+    monkeypatch.setattr(chatter_position, "CHATTER_SPEEDS", ())
+    case, why = chatter_position.construct(sc, hardcases.RHO_MAX)
+    assert case is None and "chatters before" in why
+
+
+def test_no_chatter_where_the_force_never_pushes_into_a_wall_beyond_friction(monkeypatch):
+    """``|F cos(k l)|`` and ``|F cos(k r)|`` at most ``f``: no push into a wall ever exceeds
+    friction, so no scene chatters and none is scanned for; with one wall above ``f`` the scan
+    runs (here it finds none, and says so)."""
+    from cross_check.agreement import chatter_position
+
+    calls = []
+    monkeypatch.setattr(chatter_position, "construct", lambda sc, rho: calls.append(sc) or (None, "none found"))
+    quiet = Scene(F=1, f="0.5", omega=1, l=-1, r=1, wavenumber="1.266", restitution="0.9")    # |cos(k)| ~ 0.30
+    loud = Scene(F=1, f="0.5", omega=1, l=-1, r=2, wavenumber="1.266", restitution="0.9")     # |cos(2k)| ~ 0.82
+    for sc in (quiet, loud):
+        built, notes = {}, {}
+        with mpmath.workdps(hardcases.CONSTRUCT_DPS):
+            hardcases._chatter_case(sc, built, notes)
+        assert built.get("chatter") is None
+        assert ("never pushes into a wall beyond friction" in notes["chatter"]) == (sc is quiet), notes
+    assert calls == [loud]
 
 
 @settings(max_examples=4, deadline=None)

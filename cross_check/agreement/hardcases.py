@@ -344,6 +344,12 @@ def _chatter_case(scene, built, notes):
     if F <= f:              # position forcing: a chatter run later in the period, found forward
         from cross_check.agreement import chatter_position
 
+        peaks = [abs(scene.mpf("F") * mpmath.cos(scene.mpf("wavenumber") * wall)) for wall in (l, r)]
+        if max(peaks) <= f:         # the push into a wall is at most |F cos(k wall)|, at any t
+            notes["chatter"] = (f"the force never pushes into a wall beyond friction (|F cos(k l)| = "
+                                f"{mpmath.nstr(peaks[0], 6)}, |F cos(k r)| = {mpmath.nstr(peaks[1], 6)} <= f), no chatter")
+            return
+
         built["chatter"], why = chatter_position.construct(scene, RHO_MAX)
         if why:
             notes["chatter"] = (f"the force at t = 0 pushes into neither wall beyond friction (push "

@@ -13,7 +13,9 @@ itinerary from rest, and certified by the forward proof of that itinerary:
    the same).  Where the starts from rest give no bracket that step 2 and 3 accept, the same
    scan is made at the speeds ``v0 = +-V/2, +-V, +-2V``, ``V = max(F/w, f T)`` (``speeds``: the
    forced speed, or the speed that friction takes a period to stop, so that a stop does not
-   make every start forget where it began; two significant digits: an exact decimal);
+   make every start forget where it began; two significant digits: an exact decimal); and
+   where those give none either, at ``MORE_SPEEDS``, one speed at a time, slowest first (up to
+   ``8V``: a fast start whose bounces have not yet died into contact at ``T``);
 2. **refine** (fast narrows the bracket, ``_narrowed``; then the reference, ``REFINE_DPS``
    digits): regula falsi (Illinois) on
    ``h(x0) = t_j(x0) - T`` in that bracket, the itinerary before the impact held fixed (a change
@@ -27,6 +29,8 @@ fast only orders the candidates (a wrong screen costs a bracket, never a wrong c
 reference places the impact and the enclosure proves the itinerary.
 """
 from __future__ import annotations
+
+import itertools
 
 import mpmath
 import numpy as np
@@ -52,6 +56,17 @@ MAX_BRACKETS = 3
 #: had the frictionless ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2``
 SPEEDS = (0.5, -0.5, 1, -1, 2, -2)
 MAX_MOVING_BRACKETS = 4
+#: the speeds scanned last, where none of ``SPEEDS`` gives a case, slowest first (units of
+#: ``V``): steps of ``V/8`` up to ``2V`` and of ``V/2`` up to ``8V``.  Issue 33, on the unseen
+#: scenes drawn at random: a chatter run later in the period needs a slow arrival at the wall,
+#: in bands of starts ``~V/6`` wide that fell between ``SPEEDS`` (``chatter_position``: 0.35 to
+#: 0.5 and 0.55 to 0.9 where ``V`` was 1.06 and 0.93), and with restitution 0.6 and damping every
+#: start up to ``2V`` chatters into contact before ``T``, the first bracket of an impact at ``T``
+#: being at ``-3.2V``
+MORE_SPEEDS = (tuple(s for j in range(1, 17) if j not in (4, 8, 16) for s in (j / 8, -j / 8))
+               + tuple(s for j in range(5, 17) for s in (j / 2, -j / 2)))
+#: brackets tried from ``MORE_SPEEDS`` (each a reference refinement), the slowest speed first
+MAX_MORE_BRACKETS = 2
 #: fast's narrowing of a bracket before the reference refines it (``_narrowed``: 64^4 ~ 1.7e7
 #: times narrower; on D, ``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``, the reference's runs
 #: 10 -> 6 runs, 3.1 -> 2.1 CPU s, the same start to its 30 digits)
@@ -91,11 +106,22 @@ def _crossings(scene, x, v0="0"):
     return out
 
 
-def speeds(scene) -> list:
-    """The speeds of the scans after the one from rest (``SPEEDS`` times ``max(F/w, f T)``, two
-    significant digits), as decimal strings."""
+def speeds(scene, units=None) -> list:
+    """The speeds of the scans after the one from rest (``units``, by default ``SPEEDS``, times
+    ``V = max(F/w, f T)``, two significant digits), as decimal strings.  ``units=MORE_SPEEDS``:
+    those not already among the ``SPEEDS``' (two digits may round two units alike)."""
     scale = max(scene.float("F") / scene.float("omega"), scene.float("f") * scene.period)
-    return [repr(float(f"{s * scale:.2g}")) for s in SPEEDS]
+    out = [repr(float(f"{s * scale:.2g}")) for s in (SPEEDS if units is None else units)]
+    first = [] if units is None else speeds(scene)
+    return [v for i, v in enumerate(out) if v not in first and v not in out[:i]]
+
+
+def speeds_text(scene, more=MORE_SPEEDS) -> str:
+    """The scanned speeds in words, for a refusal: ``SPEEDS``' list, and the range of ``more``."""
+    rest = speeds(scene, more) if more else []
+    tail = f", and {len(rest)} more with |v0| from {min(rest, key=lambda v: abs(float(v))).lstrip('-')} to " \
+           f"{max(rest, key=lambda v: abs(float(v))).lstrip('-')}" if rest else ""
+    return ", ".join(speeds(scene)) + tail
 
 
 def scan_grid(scene):
@@ -114,11 +140,14 @@ def _brackets(scene):
     """``(x_a, x_b, v0)``, lazily: neighbouring starts of a scan that bracket an impact at ``T``
     (``_crossings``; step 1 of the module docstring): ``MAX_BRACKETS`` from rest, then, scanned
     only once those are used up, ``MAX_MOVING_BRACKETS`` at the other ``speeds``, the best of
-    each speed first."""
+    each speed first, then the best of each of ``MORE_SPEEDS`` in turn, ``MAX_MORE_BRACKETS`` of
+    them (each scan made only when the one before gave nothing that was used)."""
     yield from _scan(scene, "0")[:MAX_BRACKETS]
     moving = [_scan(scene, v0) for v0 in speeds(scene)]
     ranked = [found[rank] for rank in range(N_SCAN - 1) for found in moving if rank < len(found)]
     yield from ranked[:MAX_MOVING_BRACKETS]
+    more = (found[0] for found in (_scan(scene, v0) for v0 in speeds(scene, MORE_SPEEDS)) if found)
+    yield from itertools.islice(more, MAX_MORE_BRACKETS)
 
 
 def _narrowed(scene, xa, xb, v0="0"):
@@ -204,7 +233,7 @@ def construct(scene, digits: int):
     with mpmath.workdps(REFINE_DPS + 10):
         T = 2 * mpmath.pi / scene.mpf("omega")
         brackets = _brackets(scene)
-        for _ in range(MAX_BRACKETS + MAX_MOVING_BRACKETS):
+        for _ in range(MAX_BRACKETS + MAX_MOVING_BRACKETS + MAX_MORE_BRACKETS):
             try:
                 bracket = next(brackets, None)
             except (ValueError, RuntimeError) as exc:        # fast refused a scan: no candidates
@@ -230,5 +259,5 @@ def construct(scene, digits: int):
                             f"{enc.prec} bits: no other event on [0, T])"), None
     if not tried:
         return None, (f"nor through earlier events: none of {N_SCAN - 1} starts from rest, nor at the "
-                      f"speeds {', '.join(speeds(scene))}, brackets an impact at T")
+                      f"speeds {speeds_text(scene)}, brackets an impact at T")
     return None, f"nor through earlier events: {why}"
