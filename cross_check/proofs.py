@@ -61,7 +61,7 @@ def prove_golden(names=None, progress=print, directory=None) -> dict:
             for label, inp in case["inputs"].items():
                 exact = case["exact"] if label == "exact" else "float64"
                 as_case = scenes.Case(case["name"], inp["x"], inp["v"], exact, case["how"])
-                record = golden.input_proof(sc, as_case, inp.get("dps"))
+                record = golden.input_proof(sc, as_case)
                 where = f"{name} / {case['name']} / {label}"
                 totals["inputs"] += 1
                 if record != inp["enclosure"]:

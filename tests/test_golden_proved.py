@@ -17,7 +17,7 @@ import mpmath
 import pytest
 from flint import arb
 
-from cross_check import golden, scenes
+from cross_check import golden, golden_proof, scenes
 from cross_check.agreement import compare
 from cross_check.tolerances import tol
 from reference.enclosure.balls import from_mpf, workprec
@@ -129,9 +129,14 @@ def test_a_refused_input_falls_back_to_the_pair_and_its_self_check(xpot, monkeyp
         return out
 
     monkeypatch.setattr(golden, "compute", shaky)
+    proofs, position_proof = [], golden_proof.position_proof
+    monkeypatch.setattr(golden_proof, "position_proof", lambda *a, **k: proofs.append(a) or position_proof(*a, **k))
     entry = golden.case_entry(sc, case)["inputs"]["exact"]
     assert "dps" not in entry                       # the dps 90 / 110 route wrote it
     assert entry["phi"] == golden.record(sc, real(sc, case, golden.GOLDEN_DPS))["phi"]
+    # its proof record is its first proof, made once, and what ``prove --golden`` makes again
+    assert len(proofs) == 1 and entry["enclosure"]["proved"]
+    assert entry["enclosure"] == golden.input_proof(sc, case)
     monkeypatch.setattr(golden, "compute", lambda s, c, d, jacobian=True: shaky(s, c, d, (golden.PROVED_DPS, golden.CHECK_DPS), jacobian))
     with pytest.raises(golden.GoldenError, match="dps 90 vs 110"):
         golden.case_entry(sc, case)

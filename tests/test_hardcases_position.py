@@ -23,7 +23,7 @@ from hypothesis import given, settings
 
 import reference
 from cross_check import golden, golden_proof
-from cross_check.agreement import compare, hardcases, impact_at_t
+from cross_check.agreement import compare, hardcases, impact_at_t, impact_backward
 from cross_check.agreement import hardcases_position as HP
 from cross_check.agreement.case import Case, ConstructionError, decimal_text
 from cross_check.tolerances import tol
@@ -271,6 +271,7 @@ def test_impact_at_T_from_a_moving_start_where_none_from_rest_brackets_it(monkey
         assert abs(near.t - T) < mpmath.mpf(10) ** -20 and min(abs(near.x - w) for w in walls) < mpmath.mpf(10) ** -25
     monkeypatch.setattr(impact_at_t, "SPEEDS", ())
     monkeypatch.setattr(impact_at_t, "MORE_SPEEDS", ())
+    monkeypatch.setattr(impact_backward, "proposals", lambda scene: ([], []))
     case, why = impact_at_t.construct(sc, HP.STATE_DIGITS)
     assert case is None and "brackets an impact at T" in why
     monkeypatch.undo()
@@ -288,10 +289,12 @@ FAST_START = Scene(F="2.45", f="0.803", omega="1.63", l="-1.3", r="-0.31", waven
 
 def test_impact_at_T_from_a_fast_start_where_every_slower_one_dies_into_contact(monkeypatch):
     """No scan of ``SPEEDS`` (up to ``2V``) brackets an impact at ``T``; one of ``MORE_SPEEDS``
-    does, and the case is built from it, certified: the reference from it meets an impact at a
-    wall within 1e-20 of ``T``.  Without ``MORE_SPEEDS`` it is not built, and says why."""
+    does (without the backward screen, ``impact_backward``, which proposes a speed too), and the
+    case is built from it, certified: the reference from it meets an impact at a wall within
+    1e-20 of ``T``.  Without ``MORE_SPEEDS`` either it is not built, and says why."""
     sc = FAST_START
     assert all(impact_at_t._scan(sc, v0) == [] for v0 in ["0"] + impact_at_t.speeds(sc))
+    monkeypatch.setattr(impact_backward, "proposals", lambda scene: ([], []))
     case, why = impact_at_t.construct(sc, HP.STATE_DIGITS)
     assert why is None and case.v in impact_at_t.speeds(sc, impact_at_t.MORE_SPEEDS), why
     with mpmath.workdps(DPS + 10):

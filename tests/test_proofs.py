@@ -65,7 +65,7 @@ def test_a_position_forced_golden_record_is_its_proof():
     case = next(c for c in data["cases"] if c["name"] == "sample-6")
     inp = case["inputs"]["exact"]
     as_case = scenes.Case(case["name"], inp["x"], inp["v"], case["exact"], case["how"])
-    record = golden.input_proof(scenes.scene("fig:xpotno"), as_case, inp.get("dps"))
+    record = golden.input_proof(scenes.scene("fig:xpotno"), as_case)
     assert record["proved"] and record == inp["enclosure"]
 
 

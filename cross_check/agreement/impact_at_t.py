@@ -37,6 +37,7 @@ import numpy as np
 
 import fast
 import reference
+from cross_check.agreement import impact_backward
 from cross_check.agreement.case import ConstructionError, HardCase, decimal_text
 from reference.enclosure import enclose_map
 from reference.enclosure.balls import DEFAULT_PREC
@@ -136,17 +137,25 @@ def _scan(scene, v0):
     return sorted(((x[i], x[i + 1], v0) for i in _crossings(scene, x, v0)), key=lambda c: abs(c[0] - mid))
 
 
-def _brackets(scene):
+def _brackets(scene, dead_ends=None):
     """``(x_a, x_b, v0)``, lazily: neighbouring starts of a scan that bracket an impact at ``T``
     (``_crossings``; step 1 of the module docstring): ``MAX_BRACKETS`` from rest, then, scanned
     only once those are used up, ``MAX_MOVING_BRACKETS`` at the other ``speeds``, the best of
-    each speed first, then the best of each of ``MORE_SPEEDS`` in turn, ``MAX_MORE_BRACKETS`` of
-    them (each scan made only when the one before gave nothing that was used)."""
+    each speed first, then the best of each speed that the backward screen proposes
+    (``impact_backward``) and of each of ``MORE_SPEEDS`` in turn, ``MAX_MORE_BRACKETS`` of them
+    (each scan made only when the one before gave nothing that was used).  ``dead_ends`` (a
+    list) receives the backward runs that found no start, with their reasons."""
     yield from _scan(scene, "0")[:MAX_BRACKETS]
     moving = [_scan(scene, v0) for v0 in speeds(scene)]
     ranked = [found[rank] for rank in range(N_SCAN - 1) for found in moving if rank < len(found)]
     yield from ranked[:MAX_MOVING_BRACKETS]
-    more = (found[0] for found in (_scan(scene, v0) for v0 in speeds(scene, MORE_SPEEDS)) if found)
+    proposed, why = impact_backward.proposals(scene)
+    if dead_ends is not None:
+        dead_ends.extend(why)
+    tried = speeds(scene)
+    proposed = [v0 for v0 in proposed if v0 not in tried]
+    later = proposed + [v0 for v0 in speeds(scene, MORE_SPEEDS) if v0 not in proposed]
+    more = (found[0] for found in (_scan(scene, v0) for v0 in later) if found)
     yield from itertools.islice(more, MAX_MORE_BRACKETS)
 
 
@@ -232,7 +241,8 @@ def construct(scene, digits: int):
     why, tried = "", 0
     with mpmath.workdps(REFINE_DPS + 10):
         T = 2 * mpmath.pi / scene.mpf("omega")
-        brackets = _brackets(scene)
+        dead_ends = []
+        brackets = _brackets(scene, dead_ends)
         for _ in range(MAX_BRACKETS + MAX_MOVING_BRACKETS + MAX_MORE_BRACKETS):
             try:
                 bracket = next(brackets, None)
@@ -258,6 +268,11 @@ def construct(scene, digits: int):
                             f"certified: the itinerary proved forward (validated flights, enclose_map at "
                             f"{enc.prec} bits: no other event on [0, T])"), None
     if not tried:
+        back = (f"; run backward from an impact at T (impact_backward: v* = {impact_backward.EVENT_SPEEDS[0]:g} V "
+                f"to {impact_backward.EVENT_SPEEDS[-1]:g} V at each wall, V = max(F/w, f T)), each of the "
+                f"{len(dead_ends)} motions stops or passes {impact_backward.MAX_SPEED:g} V before t = 0 (the last: "
+                f"{dead_ends[-1]}): on every motion screened, the bounces die before T"
+                if len(dead_ends) == 2 * len(impact_backward.EVENT_SPEEDS) else "")
         return None, (f"nor through earlier events: none of {N_SCAN - 1} starts from rest, nor at the "
-                      f"speeds {speeds_text(scene)}, brackets an impact at T")
+                      f"speeds {speeds_text(scene)}, brackets an impact at T{back}")
     return None, f"nor through earlier events: {why}"
