@@ -316,12 +316,12 @@ LATE_CHATTER = Scene(F="1.11", f="0.645", omega="2.82", l="-0.41", r="2.32", wav
 
 def test_chatter_later_in_the_period_where_the_push_at_t0_is_below_friction(monkeypatch):
     """``hardcases``' explicit chatter start needs a push beyond ``f`` at ``t = 0``; here there is
-    none, and ``chatter_position`` finds a start whose chatter run comes later: the reference from
+    none, and ``forward_position`` finds a start whose chatter run comes later: the reference from
     it at 30 digits has the run, accumulating at the case's time, and the forward proof holds.
     Refused: a candidate whose reference does not chatter (the screen pointed at a start from rest
     mid-gap), and one whose proof fails (``enclose_map`` made to say no).  No speed is scanned
     after the one that gives the case."""
-    from cross_check.agreement import chatter_position
+    from cross_check.agreement import forward_position
 
     sc = LATE_CHATTER
     built, notes = {}, {}
@@ -334,17 +334,17 @@ def test_chatter_later_in_the_period_where_the_push_at_t0_is_below_friction(monk
         log = reference.trajectory(sc, case.x, case.v, t_inf * (1 + mpmath.mpf("1e-6")), dps=DPS)
         run = next(e for e in log if e.kind == "chatter")
         assert abs(run.t - t_inf) < mpmath.mpf(10) ** -15 and abs(run.x - sc.mpf("l")) < mpmath.mpf(10) ** -25
-    monkeypatch.setattr(chatter_position, "candidates", lambda sc, rho: iter([(0.9, "0", 1.0, 1)]))
-    refused, why = chatter_position.construct(sc, hardcases.RHO_MAX)
-    assert refused is None and "does not chatter" in why
+    monkeypatch.setattr(forward_position, "candidates", lambda sc, hits_of: iter([(0.9, "0", 0, 1.0, 1)]))
+    refused, why = forward_position.chatter(sc, hardcases.RHO_MAX)
+    assert refused is None and "has no chatter event" in why
     monkeypatch.undo()
-    monkeypatch.setattr(chatter_position, "enclose_map", lambda *a, **k: MapEnclosure(False, "a failure, injected"))
-    refused, why = chatter_position.construct(sc, hardcases.RHO_MAX)
+    monkeypatch.setattr(forward_position, "enclose_map", lambda *a, **k: MapEnclosure(False, "a failure, injected"))
+    refused, why = forward_position.chatter(sc, hardcases.RHO_MAX)
     assert refused is None and "a failure, injected" in why
     monkeypatch.undo()
-    scanned, chattering = [], chatter_position._chattering      # no scan after the case's speed
-    monkeypatch.setattr(chatter_position, "_chattering", lambda sc, x, v0, rho: scanned.append(v0) or chattering(sc, x, v0, rho))
-    again, _ = chatter_position.construct(sc, hardcases.RHO_MAX)
+    scanned, chattering = [], forward_position._chattering      # no scan after the case's speed
+    monkeypatch.setattr(forward_position, "_chattering", lambda sc, x, v0, rho: scanned.append(v0) or chattering(sc, x, v0, rho))
+    again, _ = forward_position.chatter(sc, hardcases.RHO_MAX)
     assert again == case and scanned == (["0"] + impact_at_t.speeds(sc))[:len(scanned)] and scanned[-1] == case.v
 
 
@@ -357,20 +357,20 @@ SLOW_CHATTER = Scene(F="1.21", f="0.219", omega="1.3", l="-0.69", r="1.05", wave
 
 def test_chatter_from_a_slow_start_between_the_coarse_speeds(monkeypatch):
     """No start from rest or at ``speeds`` chatters before ``CHATTER_BY T``; one at
-    ``CHATTER_SPEEDS`` does: the reference from it has the run at ``r``, accumulating at the
-    case's time.  Without ``CHATTER_SPEEDS`` it is not built, and says why."""
-    from cross_check.agreement import chatter_position
+    ``SLOW_SPEEDS`` does: the reference from it has the run at ``r``, accumulating at the
+    case's time.  Without ``SLOW_SPEEDS`` it is not built, and says why."""
+    from cross_check.agreement import forward_position
 
     sc = SLOW_CHATTER
-    case, why = chatter_position.construct(sc, hardcases.RHO_MAX)
-    assert why is None and case.v in impact_at_t.speeds(sc, chatter_position.CHATTER_SPEEDS), why
+    case, why = forward_position.chatter(sc, hardcases.RHO_MAX)
+    assert why is None and case.v in impact_at_t.speeds(sc, forward_position.SLOW_SPEEDS), why
     with mpmath.workdps(DPS + 10):
         t_inf = mpmath.mpf(case.t_event)
         log = reference.trajectory(sc, case.x, case.v, t_inf * (1 + mpmath.mpf("1e-6")), dps=DPS)
         run = next(e for e in log if e.kind == "chatter")
         assert abs(run.t - t_inf) < mpmath.mpf(10) ** -15 and abs(run.x - sc.mpf("r")) < mpmath.mpf(10) ** -25
-    monkeypatch.setattr(chatter_position, "CHATTER_SPEEDS", ())
-    case, why = chatter_position.construct(sc, hardcases.RHO_MAX)
+    monkeypatch.setattr(forward_position, "SLOW_SPEEDS", ())
+    case, why = forward_position.chatter(sc, hardcases.RHO_MAX)
     assert case is None and "chatters before" in why
 
 
@@ -378,10 +378,10 @@ def test_no_chatter_where_the_force_never_pushes_into_a_wall_beyond_friction(mon
     """``|F cos(k l)|`` and ``|F cos(k r)|`` at most ``f``: no push into a wall ever exceeds
     friction, so no scene chatters and none is scanned for; with one wall above ``f`` the scan
     runs (here it finds none, and says so)."""
-    from cross_check.agreement import chatter_position
+    from cross_check.agreement import forward_position
 
     calls = []
-    monkeypatch.setattr(chatter_position, "construct", lambda sc, rho: calls.append(sc) or (None, "none found"))
+    monkeypatch.setattr(forward_position, "chatter", lambda sc, rho: calls.append(sc) or (None, "none found"))
     quiet = Scene(F=1, f="0.5", omega=1, l=-1, r=1, wavenumber="1.266", restitution="0.9")    # |cos(k)| ~ 0.30
     loud = Scene(F=1, f="0.5", omega=1, l=-1, r=2, wavenumber="1.266", restitution="0.9")     # |cos(2k)| ~ 0.82
     for sc in (quiet, loud):

@@ -43,7 +43,7 @@ unambiguous backward run: its last obstacle).  Under position forcing (``F cos(k
 ``hardcases_position`` (the reference's Taylor flight run backward, each case a single flight
 certified by a validated one), chatter from ``_chatter_case`` at the wall the force pushes into at
 ``t = 0`` (``_push``), or where it pushes into neither beyond friction, from a chatter run later in
-the period that a scan of starts finds and a forward proof certifies (``chatter_position``).
+the period that a scan of starts finds and a forward proof certifies (``forward_position``).
 """
 from __future__ import annotations
 
@@ -342,7 +342,7 @@ def _chatter_case(scene, built, notes):
         notes["chatter"] = "F <= f: the force never pushes into a wall beyond friction, no chatter"
         return
     if F <= f:              # position forcing: a chatter run later in the period, found forward
-        from cross_check.agreement import chatter_position
+        from cross_check.agreement import forward_position
 
         peaks = [abs(scene.mpf("F") * mpmath.cos(scene.mpf("wavenumber") * wall)) for wall in (l, r)]
         if max(peaks) <= f:         # the push into a wall is at most |F cos(k wall)|, at any t
@@ -350,7 +350,7 @@ def _chatter_case(scene, built, notes):
                                 f"{mpmath.nstr(peaks[0], 6)}, |F cos(k r)| = {mpmath.nstr(peaks[1], 6)} <= f), no chatter")
             return
 
-        built["chatter"], why = chatter_position.construct(scene, RHO_MAX)
+        built["chatter"], why = forward_position.chatter(scene, RHO_MAX)
         if why:
             notes["chatter"] = (f"the force at t = 0 pushes into neither wall beyond friction (push "
                                 f"{mpmath.nstr(F, 6)} <= f at wall {name}), and no chatter run later: {why}")

@@ -59,7 +59,7 @@ import mpmath
 import numpy as np
 from flint import arb
 
-from cross_check.agreement import construct_position, impact_at_t
+from cross_check.agreement import construct_position, forward_position, impact_at_t
 from cross_check.agreement.case import CONSTRUCT_DPS, ConstructionError, HardCase, decimal_text
 from reference.enclosure import certify, lohner, motion
 from reference.enclosure.balls import BallModel, from_mpf, workprec
@@ -308,6 +308,9 @@ def _friction_kinds(scene, built, notes):
                 ("sticking", sticks, "v reaches 0 mid-gap where A = 0 (cos w t* = 0) and |F cos k x*| > f "
                                      "(a stick, then slip)")):
             built[name], why = build(scene, name, candidates, "stick", how)
+            if why and name == "sticking":          # a stop later, through earlier events
+                built[name], later = forward_position.sticking(scene)
+                why = None if built[name] else f"{why}; nor through earlier events: {later}"
             if why:
                 notes[name] = why
     _rest_kinds(scene, built, notes, T)

@@ -60,7 +60,7 @@ MAX_MOVING_BRACKETS = 4
 #: the speeds scanned last, where none of ``SPEEDS`` gives a case, slowest first (units of
 #: ``V``): steps of ``V/8`` up to ``2V`` and of ``V/2`` up to ``8V``.  Issue 33, on the unseen
 #: scenes drawn at random: a chatter run later in the period needs a slow arrival at the wall,
-#: in bands of starts ``~V/6`` wide that fell between ``SPEEDS`` (``chatter_position``: 0.35 to
+#: in bands of starts ``~V/6`` wide that fell between ``SPEEDS`` (``forward_position``: 0.35 to
 #: 0.5 and 0.55 to 0.9 where ``V`` was 1.06 and 0.93), and with restitution 0.6 and damping every
 #: start up to ``2V`` chatters into contact before ``T``, the first bracket of an impact at ``T``
 #: being at ``-3.2V``

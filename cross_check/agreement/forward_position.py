@@ -1,0 +1,205 @@
+"""Hard cases under position forcing found forward, through earlier events (issue 33):
+``chatter`` where the force at ``t = 0`` pushes into neither wall, and ``sticking`` where no
+single flight from ``t = 0`` reaches a stop.
+
+* ``chatter``: ``hardcases``' chatter case is explicit, a start next to the wall the force
+  pushes into at ``t = 0``, with a small speed into it.  Under position forcing the push at
+  ``t = 0`` is ``F cos(k r)`` into ``r`` and ``-F cos(k l)`` into ``l``, and where neither
+  exceeds ``f`` there is no such start; the force then pushes into a wall later in the period
+  (``cos(w t) < 0``: into ``l`` where ``cos(k l) > f/F``), and the scene chatters there.
+* ``sticking``: ``hardcases_position`` builds it as one flight, run back from a stop at ``T/4``
+  or ``3T/4`` (``A = 0``); on a narrow gap with a long period every such flight meets a wall
+  before ``t = 0``.  A stop mid-gap where ``|A| <= STICK_SHARE f``, followed by a slip before
+  ``T``, is the same kind (a stick, then slip) wherever it falls in the period.
+
+Each case is found forward:
+
+1. **screen** (fast, float64): the starts of ``impact_at_t``'s scans (from rest across the gap,
+   then at its ``speeds``, then at ``SLOW_SPEEDS``), each run over ``[0, T]``.  A start whose log
+   has the event before ``BY T`` is a candidate -- a chatter run at a wall pushed into at that
+   time with bounces that shrink by at most ``rho_max`` (``hardcases.RHO_MAX``: the reference
+   simulates the bounces at the golden data's 90 and 110 digits); a stop as above -- the middle
+   of the longest run of neighbouring such starts first (the event is robust: an open set of
+   starts), each scan made only once the one before is used up;
+2. **reference**: from the start, its ``x0`` rounded to ``X_DIGITS`` digits, the reference's log
+   at ``CHECK_DPS`` digits must have the event too, with the screen's itinerary before it;
+3. **certify**: ``reference.enclosure.enclose_map`` proves the start's itinerary over ``[0, T]``
+   forward (a chatter run's tail bounded, ``reference.enclosure.walk.chatter_tail``).
+
+fast only orders the candidates; the reference and the proof decide.
+"""
+from __future__ import annotations
+
+import mpmath
+import numpy as np
+
+import fast
+import reference
+from cross_check.agreement import compare
+from cross_check.agreement.case import HardCase, decimal_text
+from cross_check.agreement.impact_at_t import (MORE_SPEEDS, N_SCAN, PROOF_MAX_PREC, scan_grid, speeds,
+                                                speeds_text)
+from reference.enclosure import enclose_map
+
+#: the event must come before this fraction of the period (a chatter run's contact and release,
+#: a stick's slip, then fall inside the proof's ``[0, T]`` as well)
+BY = 0.9
+#: significant digits of a candidate's ``x0`` (a run of chattering starts is ~1e-3 of the gap wide)
+X_DIGITS = 8
+#: digits of the reference's check
+CHECK_DPS = 30
+#: candidates tried through the reference and the proof
+MAX_TRIES = 3
+#: significant digits of the case's event time (the reference's at ``CHECK_DPS`` digits)
+T_DIGITS = 20
+#: the speeds of the last scans (``impact_at_t.MORE_SPEEDS`` up to ``2V``): a chatter run needs
+#: a slow arrival at the wall
+SLOW_SPEEDS = tuple(s for s in MORE_SPEEDS if abs(s) <= 2)
+#: a sticking stop: ``|A| <= STICK_SHARE f`` there (well inside the sticking region: no
+#: stick-slip boundary), at least ``WALL_SHARE`` of the gap from either wall
+STICK_SHARE, WALL_SHARE = 0.5, 1 / 64
+
+
+def _push(scene, side, t):
+    """The push ``s A(wall, t)`` into the wall ``side`` (+1 r, -1 l) at time ``t`` (floats)."""
+    F, w, k = scene.float("F"), scene.float("omega"), scene.float("wavenumber")
+    wall = scene.float("r") if side > 0 else scene.float("l")
+    return side * F * np.cos(k * wall) * np.cos(w * t)
+
+
+def _side(scene, x):
+    return 1 if abs(x - scene.float("r")) < abs(x - scene.float("l")) else -1
+
+
+def _chattering(scene, x, v0, rho_max):
+    """``[(i, j, t_inf, side)]``: the starts ``(x[i], v0)`` whose fast log over ``[0, T]`` has a
+    chatter run (its event ``j``) accumulating at ``t_inf < BY T`` at a wall pushed into with
+    ``rho <= rho_max``."""
+    T, f, e = scene.period, scene.float("f"), scene.float("restitution")
+    out = []
+    for i, log in enumerate(fast.events(scene, x, np.full_like(x, float(v0)), T)):
+        j, ev = next(((j, ev) for j, ev in enumerate(log) if ev.kind == "chatter"), (None, None))
+        if ev is None or not ev.t < BY * T:
+            continue
+        side = _side(scene, ev.x)
+        push = _push(scene, side, ev.t)
+        if push > f and e * np.sqrt((push - f) / (push + f)) <= rho_max:
+            out.append((i, j, ev.t, side))
+    return out
+
+
+def _sticking(scene, x, v0):
+    """``[(i, j, t, 0)]``: the starts ``(x[i], v0)`` whose fast log over ``[0, T]`` has, as event
+    ``j`` at ``t < BY T``, a stop mid-gap where ``|A| <= STICK_SHARE f``, with a slip after it
+    and no chatter or contact before it."""
+    T, out = scene.period, []
+    for i, log in enumerate(fast.events(scene, x, np.full_like(x, float(v0)), T)):
+        for j, ev in enumerate(log):
+            if ev.kind in ("chatter", "contact") or not ev.t < BY * T:
+                break
+            if _sticks(scene, ev) and any(later.kind == "slip" for later in log[j + 1:]):
+                out.append((i, j, ev.t, 0))
+                break
+    return out
+
+
+def _sticks(scene, ev) -> bool:
+    """The stop ``ev`` (a log's event: floats or mpf) is mid-gap, ``WALL_SHARE`` of the gap from
+    either wall, where ``|A| <= STICK_SHARE f``."""
+    F, f, w, k = (scene.float(p) for p in ("F", "f", "omega", "wavenumber"))
+    l, r = scene.float("l"), scene.float("r")
+    x, t = float(ev.x), float(ev.t)
+    margin = WALL_SHARE * (r - l)
+    return (ev.kind == "stick" and l + margin < x < r - margin
+            and abs(F * np.cos(k * x) * np.cos(w * t)) <= STICK_SHARE * f)
+
+
+def _canonical(scene, events) -> list:
+    """The kinds of a log's or a proof's events in ``compare.canonical`` form."""
+    return [e.kind for e in compare.canonical([compare.Event(e.kind, e.t, e.x, e.v, e.v_before, e.count)
+                                               for e in events], scene)]
+
+
+def candidates(scene, hits_of):
+    """``(x0, v0, j, t, side)``, lazily: the starts that ``hits_of(scene, x, v0)`` picks (step
+    1), the middle of the longest run of neighbouring ones of each scan first; scans from rest
+    first, then at ``speeds``, then at ``SLOW_SPEEDS`` (each made only once the one before is
+    used up)."""
+    x = scan_grid(scene)
+    for v0 in ["0"] + speeds(scene) + speeds(scene, SLOW_SPEEDS):
+        runs, run = [], []
+        for hit in hits_of(scene, x, v0):
+            if run and hit[0] != run[-1][0] + 1:
+                runs.append(run)
+                run = []
+            run.append(hit)
+        runs += [run] if run else []
+        for run in sorted(runs, key=len, reverse=True):
+            i, j, t, side = run[len(run) // 2]
+            yield x[i], v0, j, t, side
+
+
+def chatter(scene, rho_max):
+    """``(HardCase, None)`` or ``(None, why)``: a chatter case through earlier events; its event
+    time is the accumulation time, to ``T_DIGITS`` digits."""
+    return _construct(scene, "chatter", lambda sc, x, v0: _chattering(sc, x, v0, rho_max),
+                      f"chatters before {BY} T with rho <= {mpmath.nstr(rho_max, 3)}")
+
+
+def sticking(scene):
+    """``(HardCase, None)`` or ``(None, why)``: a sticking case through earlier events; its event
+    time is the stop's, to ``T_DIGITS`` digits."""
+    return _construct(scene, "sticking", _sticking,
+                      f"stops mid-gap before {BY} T where |A| <= {STICK_SHARE:g} f, then slips")
+
+
+def _construct(scene, name, hits_of, wanted):
+    """At most ``MAX_TRIES`` candidates, each screened only once the one before is refused."""
+    found, why = candidates(scene, hits_of), None
+    for _ in range(MAX_TRIES):
+        try:
+            candidate = next(found, None)
+        except (ValueError, RuntimeError) as exc:          # fast refused a scan: no candidates
+            return None, f"fast's scan failed ({exc})"
+        if candidate is None:
+            break
+        case, why = _checked(scene, name, *candidate)
+        if case is not None:
+            return case, None
+    if why is None:
+        return None, (f"none of the {N_SCAN - 1} starts from rest, nor at the speeds "
+                      f"{speeds_text(scene, SLOW_SPEEDS)}, {wanted}")
+    return None, why
+
+
+#: each case's event kind in the logs, and the reason no other construction gives it
+_KIND = {"chatter": ("chatter", "the push at t = 0 is below f at both walls"),
+         "sticking": ("stick", "no single flight from t = 0 reaches a stop")}
+
+
+def _checked(scene, name, x0, v0, j, t_screen, side):
+    """``(HardCase, None)`` or ``(None, why)``: one candidate through steps 2 and 3.  The case's
+    event: the reference's first chatter run, or its stop nearest the screen's (``t_screen``),
+    which must stick (``_sticks``) and slip after, the proof's itinerary the reference's."""
+    x_text, (kind, reason) = decimal_text(mpmath.mpf(x0), X_DIGITS), _KIND[name]
+    with mpmath.workdps(CHECK_DPS + 10):
+        T = 2 * mpmath.pi / scene.mpf("omega")
+        log = reference.trajectory(scene, x_text, v0, T, dps=CHECK_DPS)
+        kinds = [e.kind for e in log]
+        ats = [i for i, k in enumerate(kinds) if k == kind]
+        at = (ats[0] if name == "chatter" else min(ats, key=lambda i: abs(log[i].t - t_screen))) if ats else None
+        if at is None or (name == "sticking" and not (_sticks(scene, log[at]) and "slip" in kinds[at:])):
+            return None, f"the reference from ({x_text}, {v0}) has no {name} event where fast has: {kinds[:12]}"
+        enc = enclose_map(scene, x_text, v0, max_prec=PROOF_MAX_PREC)
+        proved = [e.kind for e in enc.events] if enc.proved else []
+        if kind not in proved or (name == "sticking" and _canonical(scene, enc.events) != _canonical(scene, log)):
+            return None, f"the forward proof from ({x_text}, {v0}) failed: {enc.reason or proved[:12]}"
+        t_event, before, x_event = log[at].t, kinds[:at], log[at].x
+    start = "from rest" if v0 == "0" else f"at v0 = {v0}"
+    what, tail = ((f"a chatter run at {'r' if side > 0 else 'l'} accumulating", ", the run's tail bounded")
+                  if name == "chatter" else
+                  (f"a stop at x = {mpmath.nstr(x_event, 8)} (|A| <= {STICK_SHARE:g} f there; it slips later)", ""))
+    return HardCase(name, x_text, v0, decimal_text(t_event, T_DIGITS), kind,
+                    f"a scan of starts {start} ({reason}): through {len(before)} event{'' if len(before) == 1 else 's'}, {what} at t = "
+                    f"{mpmath.nstr(t_event, 12)}; certified: the itinerary proved forward (validated flights, "
+                    f"enclose_map at {enc.prec} bits{tail})"), None
