@@ -29,6 +29,7 @@ from cross_check.agreement.case import Case, ConstructionError, decimal_text
 from cross_check.tolerances import tol
 from reference.enclosure.maps import MapEnclosure
 from reference.scene import Scene
+from tests.hardcase_checks import assert_impact_at_T
 from tests.strategies import position_forced_scenes
 
 SCENES = {
@@ -263,12 +264,7 @@ def test_impact_at_T_from_a_moving_start_where_none_from_rest_brackets_it(monkey
     case, why = impact_at_t.construct(sc, HP.STATE_DIGITS)
     assert why is None and case.v in impact_at_t.speeds(sc) and case.v != "0", why
     assert f"from x0 at v0 = {case.v} through" in case.how and "certified" in case.how
-    with mpmath.workdps(DPS + 10):
-        T = 2 * mpmath.pi / sc.mpf("omega")
-        log = reference.trajectory(sc, case.x, case.v, T * (1 + mpmath.mpf("1e-6")), dps=DPS)
-        near = min((e for e in log if e.kind == "impact"), key=lambda e: abs(e.t - T))
-        walls = (sc.mpf("l"), sc.mpf("r"))
-        assert abs(near.t - T) < mpmath.mpf(10) ** -20 and min(abs(near.x - w) for w in walls) < mpmath.mpf(10) ** -25
+    assert_impact_at_T(sc, case)
     monkeypatch.setattr(impact_at_t, "SPEEDS", ())
     monkeypatch.setattr(impact_at_t, "MORE_SPEEDS", ())
     monkeypatch.setattr(impact_backward, "proposals", lambda scene: ([], []))
@@ -297,12 +293,7 @@ def test_impact_at_T_from_a_fast_start_where_every_slower_one_dies_into_contact(
     monkeypatch.setattr(impact_backward, "proposals", lambda scene: ([], []))
     case, why = impact_at_t.construct(sc, HP.STATE_DIGITS)
     assert why is None and case.v in impact_at_t.speeds(sc, impact_at_t.MORE_SPEEDS), why
-    with mpmath.workdps(DPS + 10):
-        T = 2 * mpmath.pi / sc.mpf("omega")
-        log = reference.trajectory(sc, case.x, case.v, T * (1 + mpmath.mpf("1e-6")), dps=DPS)
-        near = min((e for e in log if e.kind == "impact"), key=lambda e: abs(e.t - T))
-        walls = (sc.mpf("l"), sc.mpf("r"))
-        assert abs(near.t - T) < mpmath.mpf(10) ** -20 and min(abs(near.x - w) for w in walls) < mpmath.mpf(10) ** -25
+    assert_impact_at_T(sc, case)
     monkeypatch.setattr(impact_at_t, "MORE_SPEEDS", ())
     case, why = impact_at_t.construct(sc, HP.STATE_DIGITS)
     assert case is None and "brackets an impact at T" in why

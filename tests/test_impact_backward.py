@@ -13,22 +13,20 @@ from __future__ import annotations
 
 import dataclasses
 
-import mpmath
 import numpy as np
 
 import fast
-import reference
 from cross_check.agreement import impact_at_t
 from cross_check.agreement import impact_backward as B
 from cross_check.agreement.hardcases_position import STATE_DIGITS
 from reference.scene import Scene
+from tests.hardcase_checks import assert_impact_at_T
 
 #: unseen scenes (issue 33, drawn as the verify benchmark draws them, seeds 102 and 100)
 BACKWARD = Scene(F="0.95", f="0.079", omega="1.56", l="-0.05", r="2.02", wavenumber="1.384", damping="0.185",
                  restitution="0.7", name="test: impact at T found backward")
 DEAD = Scene(F="0.81", f="0.477", omega="1.43", l="-0.43", r="1.77", wavenumber="1.085", damping="0.199",
              restitution="0.7", name="test: the bounces die before T")
-DPS = 30
 
 
 def _V(sc):
@@ -65,12 +63,7 @@ def test_impact_at_T_from_a_speed_the_backward_screen_proposes(monkeypatch):
     case, why = impact_at_t.construct(sc, STATE_DIGITS)
     assert why is None and case.v in B.proposals(sc)[0], why
     assert case.v not in impact_at_t.speeds(sc) + impact_at_t.speeds(sc, impact_at_t.MORE_SPEEDS)
-    with mpmath.workdps(DPS + 10):
-        T = 2 * mpmath.pi / sc.mpf("omega")
-        log = reference.trajectory(sc, case.x, case.v, T * (1 + mpmath.mpf("1e-6")), dps=DPS)
-        near = min((e for e in log if e.kind == "impact"), key=lambda e: abs(e.t - T))
-        walls = (sc.mpf("l"), sc.mpf("r"))
-        assert abs(near.t - T) < mpmath.mpf(10) ** -20 and min(abs(near.x - w) for w in walls) < mpmath.mpf(10) ** -25
+    assert_impact_at_T(sc, case)
     monkeypatch.setattr(B, "proposals", lambda scene: ([], []))
     case, why = impact_at_t.construct(sc, STATE_DIGITS)
     assert case is None and "brackets an impact at T" in why
