@@ -351,3 +351,33 @@ def test_a_newton_that_converges_then_jumps_away_is_refused_as_diverging(monkeyp
         z, enc, ahead = orbits._newton(sc, [arb("0.1").mid(), arb("0.2").mid()], 1, Fraction(0), 64,
                                        arb(2) ** -23, [])
     assert enc.proved and ahead is not None and len(calls) == 5
+
+
+@pytest.mark.parametrize("kind", ["elliptic", "saddle"])
+def test_multipliers_over_the_box_where_they_decide_the_type_and_over_K_where_not(symmetric, kind, monkeypatch):
+    """``tight=False`` (verify's orbits): the multipliers from ``P'`` over the Krawczyk box, one
+    walk fewer, where they decide the type -- the same kind, the balls still holding the closed
+    forms (``reference.paper``).  Where the box's enclosures leave the type undecided (its
+    ``classify`` made to say so), the walk over ``K`` is made, as with ``tight=True``."""
+    sc, proofs = symmetric
+    x, v = paper.symmetric_solution(sc, 1 if kind == "elliptic" else 2, dps=60).state0()
+    walks, real_map = [], orbits.enclose_map
+    monkeypatch.setattr(orbits, "enclose_map", lambda *a, **k: walks.append(k.get("x_radius")) or real_map(*a, **k))
+    loose = prove_periodic(sc, x, v, tight=False)
+    boxes = sum(w is not None for w in walks)
+    assert loose.proved and loose.kind == kind and boxes == 1            # the box walk, none over K
+    with workprec(PREC), mpmath.workdps(60):
+        want = paper.symmetric_solution(sc, 1 if kind == "elliptic" else 2, dps=60).multipliers()
+        slack = arb(0, arb(10) ** -20)
+        if kind == "saddle":
+            got = sorted(loose.multipliers, key=lambda b: float(b.mid()))
+            assert all(b.overlaps(from_mpf(w.real) + slack) for b, w in zip(got, sorted(want, key=lambda w: float(w.real))))
+        else:
+            (re, im), = loose.multipliers
+            assert re.overlaps(from_mpf(want[0].real) + slack) and im.overlaps(from_mpf(abs(want[0].imag)) + slack)
+    walks.clear()
+    calls, decide = [], orbits.classify
+    monkeypatch.setattr(orbits, "classify", lambda *a: ("undecided", "forced", []) if not calls.append(a) and len(calls) == 1
+                        else decide(*a))
+    again = prove_periodic(sc, x, v, tight=False)
+    assert len(calls) == 2 and sum(w is not None for w in walks) == 2 and again.kind == kind    # the walk over K too

@@ -248,7 +248,7 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
                             (None, ladder)):                        # another failure: every rung
         calls = []
 
-        def fake(label, sc, x, v, k, prec, radius, phase, points, residual=residual):
+        def fake(label, sc, x, v, k, prec, radius, phase, points, tight, residual=residual):
             calls.append(prec)
             rec = {"orbit": label, "periods": k, "proved": False, "reason": "test"}
             return {**rec, "residual": residual} if residual and prec == 64 else rec
@@ -261,7 +261,7 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     assert calls == [64] and "parabolic" in rec["reason"]
     p.kind, calls[:] = "saddle", []
 
-    def diverging(label, sc, x, v, k, prec, radius, phase, points):
+    def diverging(label, sc, x, v, k, prec, radius, phase, points, tight):
         calls.append(prec)
         return {"orbit": label, "periods": k, "proved": False, "reason": "Newton diverges", "diverged": True}
 

@@ -229,7 +229,9 @@ def _proof(label, sc, p, period, seg) -> dict:
     of fixed points), and each failed up the whole ladder in ~32 CPU s (128 bits: 9.9, 320: 21.9);
     ``orbits`` gives its ``max_proofs`` to the other orbits first.  Where Newton diverges
     (``reference.enclosure.orbits.DIVERGE_GROWTH``) no rung is tried after it: on that scene a
-    period-2 saddle's rungs of 192 and 320 bits took 37 CPU s to fail so."""
+    period-2 saddle's rungs of 192 and 320 bits took 37 CPU s to fail so.  The multipliers come
+    from ``P'`` over the Krawczyk box where that decides the type (``prove_periodic``'s
+    ``tight=False``: the report gives them to 4 digits), one walk fewer a proof."""
     from reference.enclosure.maps import point_log
 
     try:
@@ -242,7 +244,8 @@ def _proof(label, sc, p, period, seg) -> dict:
         for prec, radius in ladder:
             if not _may_hold(prec, radius, lost) and (prec, radius) != ladder[-1]:
                 continue
-            rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase, points=guide)
+            rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase, points=guide,
+                        tight=False)
             if rec["proved"] or rec.get("diverged"):       # more bits take Newton's same path
                 return rec
             if rec.get("residual"):

@@ -48,6 +48,10 @@ class OrbitProof:
     diverged: bool = False
 
 
+#: the kinds ``classify`` gives where the enclosures do not decide the type
+UNDECIDED = frozenset({"real multipliers", "complex multipliers", "undecided"})
+
+
 def classify(scene, tr, det, kinds):
     """``(kind, stability, multipliers)`` from enclosures of ``tr`` and ``det`` of ``P'``.
 

@@ -182,8 +182,8 @@ def prove(label, scene, x, v, k=1, segment=None, **how) -> dict:
     the ``itinerary``; else ``reason`` (and ``OrbitProof``'s ``residual`` where the test failed
     on it, ``diverged`` where Newton did).  ``segment = (x_lo, x_hi)``: prove the segment of fixed points ``[x_lo, x_hi] x
     {v*}`` of a no-impact orbit instead (``prove_segment``).  ``how``:
-    ``prove_periodic``'s ``prec``, ``radius`` and ``phase`` (then ``(x, v)`` is the state at
-    ``t = phase T``)."""
+    ``prove_periodic``'s ``prec``, ``radius``, ``phase`` (then ``(x, v)`` is the state at
+    ``t = phase T``), ``points`` and ``tight``."""
     p = prove_periodic(scene, x, v, periods=k, **how) if segment is None else prove_segment(scene, *segment, v)
     rec = {"orbit": label, "periods": k, "proved": p.proved, "seconds": round(p.seconds, 2)}
     if not p.proved:
