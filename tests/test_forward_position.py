@@ -48,7 +48,7 @@ def test_a_stop_that_does_not_stick_as_screened_or_an_unproved_itinerary_is_refu
     good, _ = FP.sticking(sc)
     assert good is not None
     monkeypatch.setattr(FP, "_sticks", lambda scene, ev: False)       # the reference's stop judged
-    monkeypatch.setattr(FP, "candidates", lambda scene, hits_of: iter([(float(good.x), good.v, 0, float(good.t_event), 0)]))
+    monkeypatch.setattr(FP, "candidates", lambda scene, hits_of: iter([(float(good.x), good.v, float(good.t_event), 0)]))
     refused, why = FP.sticking(sc)
     assert refused is None and "has no sticking event" in why
     monkeypatch.undo()

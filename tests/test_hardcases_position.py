@@ -325,7 +325,7 @@ def test_chatter_later_in_the_period_where_the_push_at_t0_is_below_friction(monk
         log = reference.trajectory(sc, case.x, case.v, t_inf * (1 + mpmath.mpf("1e-6")), dps=DPS)
         run = next(e for e in log if e.kind == "chatter")
         assert abs(run.t - t_inf) < mpmath.mpf(10) ** -15 and abs(run.x - sc.mpf("l")) < mpmath.mpf(10) ** -25
-    monkeypatch.setattr(forward_position, "candidates", lambda sc, hits_of: iter([(0.9, "0", 0, 1.0, 1)]))
+    monkeypatch.setattr(forward_position, "candidates", lambda sc, hits_of: iter([(0.9, "0", 1.0, 1)]))
     refused, why = forward_position.chatter(sc, hardcases.RHO_MAX)
     assert refused is None and "has no chatter event" in why
     monkeypatch.undo()

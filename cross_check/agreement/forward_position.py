@@ -72,33 +72,32 @@ def _side(scene, x):
 
 
 def _chattering(scene, x, v0, rho_max):
-    """``[(i, j, t_inf, side)]``: the starts ``(x[i], v0)`` whose fast log over ``[0, T]`` has a
-    chatter run (its event ``j``) accumulating at ``t_inf < BY T`` at a wall pushed into with
-    ``rho <= rho_max``."""
+    """``[(i, t_inf, side)]``: the starts ``(x[i], v0)`` whose fast log over ``[0, T]`` has a
+    chatter run accumulating at ``t_inf < BY T`` at a wall pushed into with ``rho <= rho_max``."""
     T, f, e = scene.period, scene.float("f"), scene.float("restitution")
     out = []
     for i, log in enumerate(fast.events(scene, x, np.full_like(x, float(v0)), T)):
-        j, ev = next(((j, ev) for j, ev in enumerate(log) if ev.kind == "chatter"), (None, None))
+        ev = next((ev for ev in log if ev.kind == "chatter"), None)
         if ev is None or not ev.t < BY * T:
             continue
         side = _side(scene, ev.x)
         push = _push(scene, side, ev.t)
         if push > f and e * np.sqrt((push - f) / (push + f)) <= rho_max:
-            out.append((i, j, ev.t, side))
+            out.append((i, ev.t, side))
     return out
 
 
 def _sticking(scene, x, v0):
-    """``[(i, j, t, 0)]``: the starts ``(x[i], v0)`` whose fast log over ``[0, T]`` has, as event
-    ``j`` at ``t < BY T``, a stop mid-gap where ``|A| <= STICK_SHARE f``, with a slip after it
-    and no chatter or contact before it."""
+    """``[(i, t, 0)]``: the starts ``(x[i], v0)`` whose fast log over ``[0, T]`` has a stop at
+    ``t < BY T`` that sticks (``_sticks``), with a slip after it and no chatter or contact before
+    it."""
     T, out = scene.period, []
     for i, log in enumerate(fast.events(scene, x, np.full_like(x, float(v0)), T)):
         for j, ev in enumerate(log):
             if ev.kind in ("chatter", "contact") or not ev.t < BY * T:
                 break
             if _sticks(scene, ev) and any(later.kind == "slip" for later in log[j + 1:]):
-                out.append((i, j, ev.t, 0))
+                out.append((i, ev.t, 0))
                 break
     return out
 
@@ -121,7 +120,7 @@ def _canonical(scene, events) -> list:
 
 
 def candidates(scene, hits_of):
-    """``(x0, v0, j, t, side)``, lazily: the starts that ``hits_of(scene, x, v0)`` picks (step
+    """``(x0, v0, t, side)``, lazily: the starts that ``hits_of(scene, x, v0)`` picks (step
     1), the middle of the longest run of neighbouring ones of each scan first; scans from rest
     first, then at ``speeds``, then at ``SLOW_SPEEDS`` (each made only once the one before is
     used up)."""
@@ -135,8 +134,8 @@ def candidates(scene, hits_of):
             run.append(hit)
         runs += [run] if run else []
         for run in sorted(runs, key=len, reverse=True):
-            i, j, t, side = run[len(run) // 2]
-            yield x[i], v0, j, t, side
+            i, t, side = run[len(run) // 2]
+            yield x[i], v0, t, side
 
 
 def chatter(scene, rho_max):
@@ -177,7 +176,7 @@ _KIND = {"chatter": ("chatter", "the push at t = 0 is below f at both walls"),
          "sticking": ("stick", "no single flight from t = 0 reaches a stop")}
 
 
-def _checked(scene, name, x0, v0, j, t_screen, side):
+def _checked(scene, name, x0, v0, t_screen, side):
     """``(HardCase, None)`` or ``(None, why)``: one candidate through steps 2 and 3.  The case's
     event: the reference's first chatter run, or its stop nearest the screen's (``t_screen``),
     which must stick (``_sticks``) and slip after, the proof's itinerary the reference's."""
@@ -199,7 +198,8 @@ def _checked(scene, name, x0, v0, j, t_screen, side):
     what, tail = ((f"a chatter run at {'r' if side > 0 else 'l'} accumulating", ", the run's tail bounded")
                   if name == "chatter" else
                   (f"a stop at x = {mpmath.nstr(x_event, 8)} (|A| <= {STICK_SHARE:g} f there; it slips later)", ""))
+    events = f"{len(before)} event{'' if len(before) == 1 else 's'}"
     return HardCase(name, x_text, v0, decimal_text(t_event, T_DIGITS), kind,
-                    f"a scan of starts {start} ({reason}): through {len(before)} event{'' if len(before) == 1 else 's'}, {what} at t = "
+                    f"a scan of starts {start} ({reason}): through {events}, {what} at t = "
                     f"{mpmath.nstr(t_event, 12)}; certified: the itinerary proved forward (validated flights, "
                     f"enclose_map at {enc.prec} bits{tail})"), None
