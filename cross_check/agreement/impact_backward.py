@@ -23,8 +23,8 @@ speed.  Where every backward run passes ``MAX_SPEED V`` or stops, the refusal sa
 Issue 33, on 40 unseen scenes drawn as the verify benchmark draws them (seeds 100 to 109): 7
 had no ``impact_at_T`` from any forward scan, all with restitution 0.7.  On one the backward
 screen proposes six speeds, and the case is built and proved from one of them (``v0 = 9.3``,
-where the forward scans stop at ``8V = 4.9``); on the other six every backward run passes
-``64 V`` within 10 to 15 impacts, or stops.  The screen costs 0.02 to 0.07 CPU s a scene.
+``15 V``: a grid of forward scans up to ``8V`` found none); on the other six every backward run
+passes ``64 V`` within 10 to 15 impacts, or stops.  The screen costs 0.02 to 0.07 CPU s a scene.
 """
 from __future__ import annotations
 
