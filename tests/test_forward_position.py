@@ -55,3 +55,26 @@ def test_a_stop_that_does_not_stick_as_screened_or_an_unproved_itinerary_is_refu
     monkeypatch.setattr(FP, "enclose_map", lambda *a, **k: MapEnclosure(False, "a failure, injected"))
     refused, why = FP.sticking(sc)
     assert refused is None and "a failure, injected" in why
+
+
+def test_first_built_draws_each_candidate_only_after_the_one_before_is_refused():
+    """``case.first_built``: at most ``limit`` candidates, each drawn lazily; the first accepted
+    is the case; a scan that fast refuses while drawing ends the search and says so."""
+    from cross_check.agreement.case import first_built
+
+    drawn = []
+
+    def scans(fail_at=None):
+        for i in range(10):
+            if i == fail_at:
+                raise ValueError("fast: too fast")
+            drawn.append(i)
+            yield i
+
+    attempt = lambda c: ("case", None) if c == 2 else (None, f"refused {c}")     # noqa: E731
+    assert first_built(scans(), 5, attempt) == ("case", None, 3) and drawn == [0, 1, 2]
+    drawn.clear()
+    assert first_built(scans(), 2, attempt) == (None, "refused 1", 2) and drawn == [0, 1]
+    assert first_built(iter([]), 2, attempt) == (None, None, 0)
+    case, why, tried = first_built(scans(fail_at=1), 5, attempt)
+    assert case is None and why == "fast's scan failed (fast: too fast)" and tried == 1

@@ -73,3 +73,24 @@ def decimal_text(value, digits: int = STATE_DIGITS) -> str:
     """``value`` (mpf) as a decimal string of ``digits`` significant digits (``"0"`` for 0)."""
     return mpmath.nstr(value, digits, strip_zeros=False, min_fixed=-mpmath.inf, max_fixed=mpmath.inf) \
         if value != 0 else "0"
+
+
+def first_built(candidates, limit: int, attempt):
+    """``(case, why, tried)``: ``attempt(candidate)`` -- ``(HardCase or None, why)`` -- on at most
+    ``limit`` candidates of the iterator ``candidates`` in turn, each drawn only once the one
+    before is refused; ``why`` the last refusal (``None`` if no candidate came).  A scan that
+    fast refuses (``ValueError``, ``RuntimeError`` while drawing) ends the search, and ``why``
+    says so."""
+    why, tried = None, 0
+    for _ in range(limit):
+        try:
+            candidate = next(candidates, None)
+        except (ValueError, RuntimeError) as exc:          # fast refused a scan: no candidates
+            return None, f"fast's scan failed ({exc})", tried
+        if candidate is None:
+            break
+        tried += 1
+        case, why = attempt(candidate)
+        if case is not None:
+            return case, None, tried
+    return None, why, tried

@@ -37,7 +37,7 @@ import numpy as np
 
 import reference
 from cross_check.agreement import compare
-from cross_check.agreement.case import HardCase, decimal_text
+from cross_check.agreement.case import HardCase, decimal_text, first_built
 from cross_check.agreement.impact_at_t import (MORE_EVENTS, N_SCAN, PROOF_MAX_PREC, budgeted, logs, scan_grid,
                                                 speeds, speeds_text)
 from reference.enclosure import enclose_map
@@ -160,17 +160,9 @@ def sticking(scene):
 
 def _construct(scene, name, hits_of, wanted):
     """At most ``MAX_TRIES`` candidates, each screened only once the one before is refused."""
-    found, why = candidates(scene, hits_of), None
-    for _ in range(MAX_TRIES):
-        try:
-            candidate = next(found, None)
-        except (ValueError, RuntimeError) as exc:          # fast refused a scan: no candidates
-            return None, f"fast's scan failed ({exc})"
-        if candidate is None:
-            break
-        case, why = _checked(scene, name, *candidate)
-        if case is not None:
-            return case, None
+    case, why, _ = first_built(candidates(scene, hits_of), MAX_TRIES, lambda c: _checked(scene, name, *c))
+    if case is not None:
+        return case, None
     if why is None:
         return None, (f"none of the {N_SCAN - 1} starts from rest, nor at the speeds "
                       f"{speeds_text(scene, SLOW_SPEEDS)} (those within {MORE_EVENTS:,} events of fast), {wanted}")

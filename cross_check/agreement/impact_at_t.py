@@ -38,7 +38,7 @@ import numpy as np
 import fast
 import reference
 from cross_check.agreement import impact_backward
-from cross_check.agreement.case import ConstructionError, HardCase, decimal_text
+from cross_check.agreement.case import ConstructionError, HardCase, decimal_text, first_built
 from reference.enclosure import enclose_map
 from reference.enclosure.balls import DEFAULT_PREC
 
@@ -260,36 +260,15 @@ def construct(scene, digits: int):
     """``(HardCase, None)`` or ``(None, why)``: the kind ``impact_at_T`` from rest or from a
     start at one of ``speeds``, through earlier events (module docstring); ``digits``: the
     start's significant digits."""
-    why, tried = "", 0
     with mpmath.workdps(REFINE_DPS + 10):
         T = 2 * mpmath.pi / scene.mpf("omega")
         dead_ends = []
-        brackets = _brackets(scene, dead_ends)
-        for _ in range(MAX_BRACKETS + MAX_MOVING_BRACKETS + MAX_MORE_BRACKETS):
-            try:
-                bracket = next(brackets, None)
-            except (ValueError, RuntimeError) as exc:        # fast refused a scan: no candidates
-                return None, f"nor through earlier events: fast's scan failed ({exc})"
-            if bracket is None:
-                break
-            tried += 1
-            xa, xb, v0 = bracket
-            try:
-                x0, kinds, j = _refined(scene, xa, xb, T, digits, v0)
-                x_text = decimal_text(x0, digits)
-                enc = enclose_map(scene, x_text, v0, max_prec=PROOF_MAX_PREC)
-                if not enc.proved:
-                    raise ConstructionError(f"the forward proof failed: {enc.reason}")
-            except (ValueError, RuntimeError, ArithmeticError) as exc:   # ConstructionError among them
-                why = str(exc)
-                continue
-            path = ", ".join(kinds[:-1]) or "no earlier event"
-            start = "from rest" if v0 == "0" else f"from x0 at v0 = {v0}"
-            return HardCase("impact_at_T", x_text, v0, decimal_text(T, digits), "impact",
-                            f"impact at a wall at exactly t = T, {start} through {path} (event {j + 1}); "
-                            f"certified: the itinerary proved forward (validated flights, enclose_map at "
-                            f"{enc.prec} bits: no other event on [0, T])"), None
-    if not tried:
+        most = MAX_BRACKETS + MAX_MOVING_BRACKETS + MAX_MORE_BRACKETS
+        case, why, tried = first_built(_brackets(scene, dead_ends), most,
+                                       lambda bracket: _certified(scene, *bracket, T, digits))
+    if case is not None:
+        return case, None
+    if not tried and why is None:
         back = (f"; run backward from an impact at T (impact_backward: v* = {impact_backward.EVENT_SPEEDS[0]:g} V "
                 f"to {impact_backward.EVENT_SPEEDS[-1]:g} V at each wall, V = max(F/w, f T)), each of the "
                 f"{len(dead_ends)} motions stops or passes {impact_backward.MAX_SPEED:g} V before t = 0 (the last: "
@@ -299,3 +278,22 @@ def construct(scene, digits: int):
                       f"speeds {speeds_text(scene, FAST_SPEEDS)} (those within {MORE_EVENTS:,} events of "
                       f"fast), brackets an impact at T{back}")
     return None, f"nor through earlier events: {why}"
+
+
+def _certified(scene, xa, xb, v0, T, digits):
+    """``(HardCase, None)`` or ``(None, why)``: the start of the bracket refined (step 2) and its
+    itinerary proved forward (step 3)."""
+    try:
+        x0, kinds, j = _refined(scene, xa, xb, T, digits, v0)
+        x_text = decimal_text(x0, digits)
+        enc = enclose_map(scene, x_text, v0, max_prec=PROOF_MAX_PREC)
+        if not enc.proved:
+            raise ConstructionError(f"the forward proof failed: {enc.reason}")
+    except (ValueError, RuntimeError, ArithmeticError) as exc:   # ConstructionError among them
+        return None, str(exc)
+    path = ", ".join(kinds[:-1]) or "no earlier event"
+    start = "from rest" if v0 == "0" else f"from x0 at v0 = {v0}"
+    return HardCase("impact_at_T", x_text, v0, decimal_text(T, digits), "impact",
+                    f"impact at a wall at exactly t = T, {start} through {path} (event {j + 1}); "
+                    f"certified: the itinerary proved forward (validated flights, enclose_map at "
+                    f"{enc.prec} bits: no other event on [0, T])"), None
