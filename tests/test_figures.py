@@ -140,3 +140,22 @@ def test_birkhoff_classifier_on_the_narrow_scene():
 #: fig_nofriction.png panel (a) as computed by this suite: its Birkhoff averages agree to 1.2 digits
 #: over 800 periods, against 11 for the island start)
 CHAOTIC_START = (0.3, 0.5)
+
+
+def test_orbits_without_omega_dissip_take_the_map_alone_and_the_same_iterates(monkeypatch):
+    """``run_orbits`` on a frictionless scene (no ``Omega_dissip`` to track) takes fast's map
+    alone, not the map with its Jacobian (1.33 times its cost), and gets the same iterates bit
+    for bit as the one-pass map and Jacobian."""
+    import fast
+    from reference.scene import Scene
+
+    sc = Scene(F="2.115", f=0, omega="0.949", l=0, r="0.2", restitution="0.6", wavenumber="4.23")
+    x0, v0 = np.array([0.05, 0.1, 0.15]), np.array([0.5, -1.0, 2.0])
+    xs, vs, zv = [x0], [v0], []
+    for _ in range(5):
+        x1, v1, z = por._step(sc, xs[-1], vs[-1], zero_velocity=True)      # map and Jacobian
+        xs.append(x1), vs.append(v1), zv.append(z)
+    monkeypatch.setattr(fast, "map_and_jacobian", lambda *a, **k: pytest.fail("the Jacobian was computed"))
+    got_x, got_v, first = por.run_orbits(sc, x0, v0, 5)
+    assert np.array_equal(got_x, np.array(xs)) and np.array_equal(got_v, np.array(vs))
+    assert (first == 6).all()
