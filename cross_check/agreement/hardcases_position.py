@@ -19,12 +19,14 @@ velocity ``v*`` just before, flight sign ``s`` -- and the flight through it is r
   ``stopping`` in the middle of the widest rest interval ``|F cos k x| <= f``
   (``reference.taylor.equilibrium_intervals``: there a stop is final); ``at_rest`` is explicit
   (``v0 = 0`` there).  Chatter is ``hardcases``' explicit start, at the wall the force pushes
-  into at ``t = 0``.
+  into at ``t = 0`` (where it pushes into neither, a start whose chatter run comes later,
+  ``forward_position``).
 
 A case is a *single flight* from ``t = 0`` to ``t*``: the certificate below says there is no
 other event before ``t*`` (but ``impact_at_T`` on a gap too narrow for a flight of a whole
 period, which ``impact_at_t`` builds from rest, or from a moving start, through earlier events and
-proves forward).  Candidates are screened in float64 first (``construct_position``'s
+proves forward; and ``sticking`` where no single flight reaches a stop, which ``forward_position``
+builds as a stop later in the period, proved forward).  Candidates are screened in float64 first (``construct_position``'s
 backward flight and grid certificate: cheap, and it only orders and drops candidates); the first
 ``MAX_TRIES`` that pass are tried in full:
 
