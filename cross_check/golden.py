@@ -264,7 +264,7 @@ def outside_proof(res: dict, enc, sc) -> str | None:
 
 def _proved_events(enc, sc) -> list:
     """The events of the proof ``enc`` as ``compare.Event`` balls, in canonical form."""
-    return compare.canonical([compare.Event(e.kind, e.t, e.x, e.v, e.v_before, e.count) for e in enc.events], sc)
+    return compare.canonical_of(enc.events, sc)
 
 
 def _unpinned(values, balls, rtol) -> str | None:

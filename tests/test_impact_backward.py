@@ -29,10 +29,6 @@ DEAD = Scene(F="0.81", f="0.477", omega="1.43", l="-0.43", r="1.77", wavenumber=
              restitution="0.7", name="test: the bounces die before T")
 
 
-def _V(sc):
-    return max(sc.float("F") / sc.float("omega"), sc.float("f") * sc.period)
-
-
 def _forward_impact_near_T(sc, start, side):
     """``|t - T|`` of fast's impact at wall ``side`` nearest ``T``, from ``start`` (inf: none)."""
     T, wall = sc.period, sc.float("r") if side > 0 else sc.float("l")
@@ -41,14 +37,14 @@ def _forward_impact_near_T(sc, start, side):
 
 
 def test_a_start_found_backward_meets_the_wall_at_T_forward_and_a_wrong_inversion_does_not():
-    found = [(side, u) for u in B.EVENT_SPEEDS for side in (1, -1) if B.start(BACKWARD, side, u * _V(BACKWARD))[0]]
+    found = [(side, u) for u in B.EVENT_SPEEDS for side in (1, -1) if B.start(BACKWARD, side, u * B.speed_scale(BACKWARD))[0]]
     assert found
     wrong = dataclasses.replace(BACKWARD, restitution="0.8")     # the impacts inverted with e = 0.8
     misled = 0
     for side, u in found:
-        start, _ = B.start(BACKWARD, side, u * _V(BACKWARD))
+        start, _ = B.start(BACKWARD, side, u * B.speed_scale(BACKWARD))
         assert _forward_impact_near_T(BACKWARD, start, side) < 1e-6
-        bad, _ = B.start(wrong, side, u * _V(BACKWARD))
+        bad, _ = B.start(wrong, side, u * B.speed_scale(BACKWARD))
         if bad is not None:
             misled += 1
             assert _forward_impact_near_T(BACKWARD, bad, side) > 1e-3
@@ -74,7 +70,7 @@ def test_where_every_motion_screened_dies_the_refusal_says_so():
     sc = DEAD
     for u in B.EVENT_SPEEDS:
         for side in (1, -1):
-            got, why = B.start(sc, side, u * _V(sc))
+            got, why = B.start(sc, side, u * B.speed_scale(sc))
             assert got is None and ("passes 64 V" in why or "stops" in why), why
     case, why = impact_at_t.construct(sc, STATE_DIGITS)
     assert case is None and "each of the 8 motions stops or passes 64 V before t = 0" in why

@@ -52,6 +52,12 @@ class Event(NamedTuple):
     count: object = None
 
 
+def canonical_of(events, scene) -> list:
+    """``canonical`` of the events of any log (the reference's, an enclosure's: objects with
+    ``kind, t, x, v, v_before, count``), as ``Event`` tuples."""
+    return canonical([Event(e.kind, e.t, e.x, e.v, e.v_before, e.count) for e in events], scene)
+
+
 def canonical(events, scene) -> list:
     """The events that define the itinerary in ``scene`` (what two integrators must share).
 

@@ -117,12 +117,6 @@ def _sticks(scene, ev) -> bool:
             and abs(F * np.cos(k * x) * np.cos(w * t)) <= STICK_SHARE * f)
 
 
-def _canonical(scene, events) -> list:
-    """The kinds of a log's or a proof's events in ``compare.canonical`` form."""
-    return [e.kind for e in compare.canonical([compare.Event(e.kind, e.t, e.x, e.v, e.v_before, e.count)
-                                               for e in events], scene)]
-
-
 def candidates(scene, hits_of):
     """``(x0, v0, t, side)``, lazily: the starts that ``hits_of(scene, x, v0, spent)`` picks
     (step 1), the middle of the longest run of neighbouring ones of each scan first; scans from
@@ -189,7 +183,8 @@ def _checked(scene, name, x0, v0, t_screen, side):
             return None, f"the reference from ({x_text}, {v0}) has no {name} event where fast has: {kinds[:12]}"
         enc = enclose_map(scene, x_text, v0, max_prec=PROOF_MAX_PREC)
         proved = [e.kind for e in enc.events] if enc.proved else []
-        if kind not in proved or (name == "sticking" and _canonical(scene, enc.events) != _canonical(scene, log)):
+        itinerary = [[e.kind for e in compare.canonical_of(events, scene)] for events in (enc.events, log)]
+        if kind not in proved or (name == "sticking" and itinerary[0] != itinerary[1]):
             return None, f"the forward proof from ({x_text}, {v0}) failed: {enc.reason or proved[:12]}"
         t_event, before, x_event = log[at].t, kinds[:at], log[at].x
     start = "from rest" if v0 == "0" else f"at v0 = {v0}"

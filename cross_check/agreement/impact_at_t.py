@@ -131,7 +131,7 @@ def speeds(scene, units=None) -> list:
     """The speeds of the scans after the one from rest (``units``, by default ``SPEEDS``, times
     ``V = max(F/w, f T)``, two significant digits), as decimal strings.  Other ``units``: those
     not already among the ``SPEEDS``' (two digits may round two units alike)."""
-    scale = max(scene.float("F") / scene.float("omega"), scene.float("f") * scene.period)
+    scale = impact_backward.speed_scale(scene)
     out = [repr(float(f"{s * scale:.2g}")) for s in (SPEEDS if units is None else units)]
     first = [] if units is None else speeds(scene)
     return [v for i, v in enumerate(out) if v not in first and v not in out[:i]]

@@ -44,6 +44,12 @@ RTOL, ATOL = 1e-10, 1e-12
 LEAVE = 1e-12
 
 
+def speed_scale(scene) -> float:
+    """``V = max(F/w, f T)``: the forced speed, or the speed that friction takes a period to stop
+    (the unit of every scan speed of ``impact_at_t`` and of ``EVENT_SPEEDS``, ``MAX_SPEED``)."""
+    return max(scene.float("F") / scene.float("omega"), scene.float("f") * scene.period)
+
+
 def _rhs(scene):
     F, f, w, k, c = (scene.float(p) for p in ("F", "f", "omega", "wavenumber", "damping"))
 
@@ -69,7 +75,7 @@ def start(scene, side, v_star):
     l, r, e = scene.float("l"), scene.float("r"), scene.float("restitution")
     if e == 0:
         return None, "restitution 0: an impact leaves no speed to run back from"
-    V = max(scene.float("F") / scene.float("omega"), scene.float("f") * scene.period)
+    V = speed_scale(scene)
     rhs, events, inset = _rhs(scene), _events(scene), LEAVE * (r - l)
     t, x, v = scene.period, (r - inset if side > 0 else l + inset), side * v_star
     for n in range(MAX_IMPACTS):
@@ -92,7 +98,7 @@ def proposals(scene):
     """``([v0, ...], [why, ...])``: the speeds (decimal strings, two significant digits, as
     ``impact_at_t.speeds``) of the starts found backward from both walls at ``EVENT_SPEEDS``, in
     that order and without repeats; and the reason of each run that found none."""
-    V = max(scene.float("F") / scene.float("omega"), scene.float("f") * scene.period)
+    V = speed_scale(scene)
     found, whys = [], []
     for u in EVENT_SPEEDS:
         for side, name in ((1, "r"), (-1, "l")):
