@@ -237,7 +237,8 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     rules out the rungs whose box that loss cannot fit (``_may_hold``), not the others; a failure
     of another kind rules out nothing, and the last rung is always tried.  An orbit that fast
     finds parabolic is tried on the first rung alone, and its reason says so; after a rung whose
-    Newton diverged (``diverged``) none is tried."""
+    Newton diverged (``diverged``) none is tried, nor after a rung of ``WHOLE_LOSS_PREC`` bits or
+    more whose residual ball is 1 wide (every bit lost: not rounding)."""
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle"})()
     monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
@@ -260,6 +261,21 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     rec = tasks._proof("o", sc, p, 1, None)
     assert calls == [64] and "parabolic" in rec["reason"]
     p.kind, calls[:] = "saddle", []
+
+    def every_bit_lost(label, sc, x, v, k, prec, radius, phase, points, tight):
+        calls.append(prec)
+        return {"orbit": label, "periods": k, "proved": False, "reason": "test",
+                "residual": 8.0 if prec >= 128 else None}
+
+    monkeypatch.setattr(tasks, "prove", every_bit_lost)    # a whole loss at 128 bits ends the climb
+    calls[:] = []
+    rec = tasks._proof("o", sc, p, 1, None)
+    assert calls == [64, 96, 128] and "every one of the 128 bits lost" in rec["reason"]
+    monkeypatch.setattr(tasks, "WHOLE_LOSS_PREC", 192)     # below the threshold the climb goes on
+    calls[:] = []
+    tasks._proof("o", sc, p, 1, None)
+    assert calls == [64, 96, 128, 320], calls
+    calls[:] = []
 
     def diverging(label, sc, x, v, k, prec, radius, phase, points, tight):
         calls.append(prec)

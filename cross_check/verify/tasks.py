@@ -206,6 +206,18 @@ def _section(sc, x, v, period):
 RESIDUAL_SLACK = 4.0
 
 
+#: a failed rung of at least this many bits whose residual ball is at least 1 wide (every bit
+#: lost) ends the climb.  A rounding loss of ``prec >= 128`` bits would be an amplification of
+#: ``2^128 ~ 3e38``, which would have kept ``fast``'s float64 Newton from converging on the orbit;
+#: such a loss comes from elsewhere (near-parabolic centres: ``(P' - I)^-1`` ~1e9 times an
+#: enclosure that more bits do not narrow) and more bits do not shrink it.  Issue 33, scene Y
+#: (``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2``, period 3, ``tr P' = 2 - 1.2e-9``): one centre's
+#: residual was 8.0 at 192 bits and 8.1 at 320 (16.4 CPU s), another's 9.5 at 128, and its rung of
+#: 320 bits took 7.5 to find Newton diverging.  On eight other scenes (164 orbits, one run) no
+#: rung of 128 bits or more left a residual of 1 or more.
+WHOLE_LOSS_PREC = 128
+
+
 def _may_hold(prec, radius, lost) -> bool:
     """Whether a rung of ``PROOF_LADDER`` may hold after a lower one lost ``lost`` bits: its
     residual ``~2^(lost - prec)`` must be within ``RESIDUAL_SLACK`` times the ``2 r`` that the
@@ -250,6 +262,10 @@ def _proof(label, sc, p, period, seg) -> dict:
                 return rec
             if rec.get("residual"):
                 lost = max(lost, math.log2(rec["residual"]) + prec)
+                if prec >= WHOLE_LOSS_PREC and rec["residual"] >= 1:
+                    rec["reason"] += (f" (every one of the {prec} bits lost: not a rounding loss, "
+                                      f"which more bits would shrink; no higher rung is tried)")
+                    return rec
         if ladder is not PROOF_LADDER:
             rec["reason"] = (f"parabolic in float64 (tr within {periodic.PARABOLIC_TOL:g} of +-2: "
                              f"det(P' - I) ~ 0), tried at {ladder[0][0]} bits only: {rec['reason']}")
