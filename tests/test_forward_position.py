@@ -6,15 +6,17 @@ forward_position.sticking``, issue 33): where no single flight from ``t = 0`` re
   ``|A| <= STICK_SHARE f``, and slips later;
 * without the forward construction the kind is not built, and the note says why;
 * refused: a candidate whose reference stop does not stick as the screen's does, and one whose
-  forward proof fails.
+  forward proof fails;
+* a candidate from rest is nudged along the force, out of the band.
 """
 from __future__ import annotations
 
 import mpmath
 
 import reference
+from cross_check.agreement import compare, hardcases
 from cross_check.agreement import forward_position as FP
-from cross_check.agreement import hardcases
+from cross_check.agreement.impact_backward import speed_scale
 from reference.enclosure.maps import MapEnclosure
 from reference.scene import Scene
 
@@ -55,6 +57,25 @@ def test_a_stop_that_does_not_stick_as_screened_or_an_unproved_itinerary_is_refu
     monkeypatch.setattr(FP, "enclose_map", lambda *a, **k: MapEnclosure(False, "a failure, injected"))
     refused, why = FP.sticking(sc)
     assert refused is None and "a failure, injected" in why
+
+
+def test_a_candidate_from_rest_is_nudged_along_the_force_out_of_the_band():
+    """``NUDGE``: the sticking case here comes from the scan from rest, and starts instead at
+    ``v0 = s NUDGE V`` along the force ``F cos(k x0)``.  Its float64 state is out of the band
+    (``compare.reference_in_band``: the reference's itinerary holds under the moves of a few ulps);
+    the same ``x0`` at rest is in it (a move of ``v`` against the force adds a turn at ``t ~ 0``),
+    which is why the start is nudged."""
+    from cross_check.scenes import Case
+
+    sc = NARROW
+    case, why = FP.sticking(sc)
+    assert case is not None, why
+    x0 = float(case.x)
+    assert case.v == FP._nudged(sc, x0) and "from rest nudged along the force" in case.how
+    sign = 1 if float(sc.mpf("F") * mpmath.cos(sc.mpf("wavenumber") * x0)) >= 0 else -1
+    assert float(case.v) * sign > 0 and abs(float(case.v)) < 2 * FP.NUDGE * speed_scale(sc)
+    moving, rest = (Case("sticking", repr(x0), repr(float(v)), "float64", "") for v in (case.v, "0"))
+    assert not compare.reference_in_band(sc, moving) and compare.reference_in_band(sc, rest)
 
 
 def test_first_built_draws_each_candidate_only_after_the_one_before_is_refused():
