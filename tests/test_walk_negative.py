@@ -448,3 +448,35 @@ def test_a_box_reaching_outside_the_gap_is_refused(x, radius):
     sc = scenes.scene("fig:many:wide/f=0.3")
     enc = enclose_map(sc, x, "0.5" if x == "0" else "-0.5", x_radius=radius, max_prec=PREC)
     assert not enc.proved and "gap" in enc.reason, enc.reason
+
+
+#: restitution 0 (issue 33: a random scene of ``verify`` failed on it): an impact leaves the
+#: particle at rest at the wall, in contact where the force holds it there (``|pull| <= f``,
+#: ``pull = -side A``), else off at once (``reference.integrator.rest_at_wall``).  From (0.4,
+#: -1.5) the impact at ``l`` leaves at once (``A ~ 0.95 > f`` pulls away); from (0.3, 0.2) the one
+#: at ``r`` is held (``A`` pushes into ``r``) until the release.
+PLASTIC = Scene(F=1, f="0.2", omega=1, l=0, r="0.8", restitution=0, name="test: restitution 0")
+
+
+def test_a_plastic_impact_logged_as_held_where_the_force_pulls_away_is_refused():
+    """The impact at ``l`` leaves at once; a log that holds it in contact there (and releases it
+    a little later) is refused: the hold is proved, and here it fails."""
+    c = Case(PLASTIC, "0.4", "-1.5")
+    L = list(c.points)
+    assert L[0].kind == "impact" and L[1].kind != "contact"
+    held = [L[0], event(L[0], kind="contact", v=0, v_before=0), event(L[0], kind="release", t=L[0].t + mpmath.mpf("0.1"), v=0, v_before=0)]
+    with pytest.raises(Unproved) as exc:
+        c.walk(held + L[1:])
+    assert "leaves no speed" not in str(exc.value) and _NAMED.search(str(exc.value)), exc.value
+
+
+def test_a_plastic_impact_logged_as_leaving_where_the_force_holds_it_is_refused():
+    """The impact at ``r`` is held until the release; a log without the contact and the release
+    (the particle off at once, against the force) is refused: leaving is proved, and here it
+    fails."""
+    c = Case(PLASTIC, "0.3", "0.2")
+    L = list(c.points)
+    assert [e.kind for e in L[:3]] == ["impact", "contact", "release"]
+    with pytest.raises(Unproved) as exc:
+        c.walk(L[:1] + L[3:])
+    assert "leaves no speed" not in str(exc.value) and _NAMED.search(str(exc.value)), exc.value
