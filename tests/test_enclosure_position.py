@@ -138,3 +138,34 @@ def test_property_a_position_forced_proof_contains_the_point_reference(case):
     kinds = {e.kind for e in enc.events}
     assert_map_contains_the_point_reference(enc, sc, x, v, jacobian=enc.jacobian is not None
                                             and not kinds & {"stick", "contact", "chatter"})
+
+
+#: restitution 0 under position forcing (issue 33: a random scene of ``verify`` failed on it): the
+#: impact leaves the particle at rest at the wall, here off at once (the force pulls it away
+#: beyond friction), and no later rest zeroes ``Phi'``: with friction and damping, and without
+#: friction (from the point reference: one impact in the period, no contact)
+PLASTIC = [(Scene(F="2.471", f="1.448", omega="5.791", l="-0.61", r="3.22", wavenumber="0.5677", damping="0.247",
+                  restitution=0), "1.305", "-2.8"),
+           (Scene(F="1.3", f=0, omega="1.7", l="-0.6", r="0.9", wavenumber="1.2", restitution=0), "-0.45", "0.7")]
+
+
+@pytest.mark.parametrize("scene, x, v", PLASTIC)
+def test_a_plastic_impact_that_leaves_at_once_is_proved_with_its_jacobian(scene, x, v):
+    """The proof holds the point reference's ``Phi`` and ``Phi'`` (Table 1 at 60 digits), and its
+    ``Phi'`` holds central differences of the point reference's map (``ref_fd_jacobian``: 80
+    digits, ``h = 1e-30``) -- an independent check of the saltation of an impact at ``e = 0``,
+    ``v+ = 0``, followed by a flight from rest at the wall."""
+    enc = enclose_map(scene, x, v)
+    assert enc.proved, enc.reason
+    assert [e.kind for e in enc.events] == ["impact"]
+    assert_map_contains_the_point_reference(enc, scene, x, v)
+    with mpmath.workdps(90):
+        X, V, h = mpmath.mpf(x), mpmath.mpf(v), mpmath.mpf("1e-30")
+        fd = []
+        for dx, dv in ((h, 0), (0, h)):
+            plus, minus = (reference.stroboscopic_map(scene, X + s * dx, V + s * dv, dps=80) for s in (1, -1))
+            fd.append([(plus[i] - minus[i]) / (2 * h) for i in range(2)])
+    with workprec(enc.prec):
+        assert all(inside(enc.jacobian[i][j], fd[j][i], tol("ref_fd_jacobian")) for i in range(2) for j in range(2))
+        assert not all(inside(enc.jacobian[i][j], 0 * fd[j][i], tol("ref_fd_jacobian"))       # not a zero Phi'
+                       for i in range(2) for j in range(2))

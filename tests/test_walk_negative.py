@@ -57,6 +57,10 @@ STATES = [
     (scenes.scene("effect:zeno"), "0.7", "0.1", "impacts with restitution, frictionless"),
     (DAMPED, "0.3", "0.2", "damped: impacts, turns, stick, slip"),
     (scenes.scene("stuck/F<f"), "0.4", "0.3", "stops for good"),
+    (Scene(F=1, f="0.2", omega=1, l=0, r="0.8", restitution=0), "0.4", "-1.5",
+     "restitution 0: off at once, then held, released"),
+    (Scene(F="2.471", f="1.448", omega="5.791", l="-0.61", r="3.22", wavenumber="0.5677", damping="0.247",
+           restitution=0), "-0.5", "-4", "restitution 0, position forcing: off at once, then held, released"),
 ]
 IDS = [s[3] for s in STATES]
 #: what a reason must name: an event kind or an event function

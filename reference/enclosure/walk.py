@@ -11,7 +11,10 @@ the walk proves it for every start state of a box, with the semantics of
    the last event before ``t_end``;
 3. the kind of each event is proved by certain comparisons: an impact has ``side v- > 0``
    (not grazing); a zero of the velocity is a turn if ``s A < -f`` and a stop if
-   ``-f < s A``; each with the point integrator's kind, or the walk stops;
+   ``-f < s A``; each with the point integrator's kind, or the walk stops; at restitution 0
+   an impact leaves the particle at rest at the wall, in contact where the point integrator
+   holds it there (the hold proved up to the release), else off at once (the flight's start
+   proves that the force pulls it away beyond friction);
 4. a chatter run is followed bounce by bounce as long as the point integrator did, then its
    tail is bounded (:func:`chatter_tail`) and wall contact follows;
 5. after the last event the state at ``t_end`` is the motion's closed form at ``t_end``.
@@ -143,16 +146,9 @@ class Walk:
     def _start_at_rest(self, side):
         m = self.m
         ev = self.peek()
-        held = ev is not None and ev.kind in ("stick", "contact") and ev.t == self.point_t0
         if side:
-            if held:
-                self.take("contact")
-                self.v = arb(0)
-                self.emit("contact", arb(0))
-                self.mode, self.side = "contact", side
-                return
-            order = {"velocity": 1} if m.friction else {motion.wall_name(side): 2}
-            return self.to_flight(-side, order)
+            return self._at_rest_at_wall(side, self.point_t0)
+        held = ev is not None and ev.kind in ("stick", "contact") and ev.t == self.point_t0
         if held:
             self._refuse_mixed_stick("a start that sticks")
             self.take("stick")
@@ -166,6 +162,24 @@ class Walk:
         if not sign:
             raise Unproved("a start at rest where the force is at the friction level")
         self.to_flight(sign, {"velocity": 1})
+
+    def _at_rest_at_wall(self, side, t_point):
+        """At rest at the wall ``side`` at the point time ``t_point`` (a start there, or an impact
+        at restitution 0), as ``reference.integrator.rest_at_wall``: wall contact where the point
+        integrator has one at ``t_point`` -- ``rest`` then proves the hold, ``f + side A > 0``,
+        up to the release -- else a flight away from the wall, whose exclusions prove it leaves
+        at once: the first derivative that does not vanish at the start must be positive, ``s a
+        = -side A - f > 0`` with friction (``velocity``, a simple zero), ``-side A > 0`` without
+        (the wall's distance, a double zero).  A log with the other choice fails one of them."""
+        ev = self.peek()
+        if ev is not None and ev.kind == "contact" and ev.t == t_point:
+            self.take("contact")
+            self.v = arb(0)
+            self.emit("contact", arb(0))
+            self.mode, self.side = "contact", side
+            return False
+        self.to_flight(-side, {"velocity": 1} if self.m.friction else {motion.wall_name(side): 2})
+        return False
 
     def to_flight(self, s, orders):
         self.mode, self.s, self.orders = "flight", (s if self.m.friction else 0), orders
@@ -215,6 +229,9 @@ class Walk:
                            f"flight (a grazing touch, a turning point at a wall, or an impact at "
                            f"the wall the flight moves away from)")
         guess = (from_mpf(ev.t) - self.t.mid()).mid()
+        if not guess > 0:           # e.g. a turn logged at the instant a plastic impact leaves
+            raise Unproved(f"{what}: the point integrator's {ev.kind} at t = {mpstr(ev.t)} is not after "
+                           f"the flight's start")
         wide, tight = certify.root(flight, fired, guess, arb(0), what)
         if not tight < h_end:
             raise Unproved(f"{what}: the {ev.kind} at t = {mpstr(ev.t)} may be at t_end "
@@ -240,6 +257,9 @@ class Walk:
         v_before = self.v
         self.x, self.v = m.wall(side), -m.e * v_before
         self.emit("impact", v_before)
+        if m.e.is_zero():                   # plastic: at rest at the wall, held or off at once
+            self.v = arb(0)
+            return self._at_rest_at_wall(side, self.points[self.i - 1].t)
         if not side * self.v < 0:
             raise Unproved(f"impact at t = {self.t.mid().str(15)} leaves no speed (contact)")
         ahead = self._chatter_ahead(side)
