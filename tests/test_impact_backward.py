@@ -75,3 +75,14 @@ def test_where_every_motion_screened_dies_the_refusal_says_so():
     case, why = impact_at_t.construct(sc, STATE_DIGITS)
     assert case is None and "each of the 8 motions stops or passes 64 V before t = 0" in why
     assert B.start(dataclasses.replace(sc, restitution="0"), 1, 1.0) == (None, "restitution 0: an impact leaves no speed to run back from")
+
+
+def test_at_restitution_0_the_refusal_claims_no_backward_evidence():
+    """At restitution 0 no motion runs backward through an impact: the refusal of an unseen
+    narrow, plastic scene (drawn at random; every flight forgets its start at each impact) says
+    so, and does not claim that the bounces die (the screen ran nothing)."""
+    sc = Scene(F="1.748", f="0.9527", omega="0.902", l="-0.92", r="-0.49", wavenumber="0.3739", damping="0.142",
+               restitution=0)
+    case, why = impact_at_t.construct(sc, STATE_DIGITS)
+    assert case is None and "at restitution 0 no motion runs backward through an impact" in why, why
+    assert "die" not in why and "brackets an impact at T" in why
