@@ -109,6 +109,42 @@ def test_the_reference_finds_the_constructed_event_at_the_constructed_time(name,
             assert "chatter" in kinds
 
 
+#: the corner of the random scenes (issue 33): a gap of 0.2, a period of 12.6, ``F = 3``; a flight of
+#: ~0.35 crosses the gap, and every flight run back from ``t* >= 3T/64 = 0.59`` meets a wall
+NARROW_LONG = Scene(F=3, f="0.3", omega="0.5", l=0, r="0.2", wavenumber=2, restitution="0.6")
+
+
+def test_wall_kinds_early_in_the_period_on_a_narrow_gap(monkeypatch):
+    """The graze, the crossing pair and the turn at a wall are built at ``t* = T / 2^m``
+    (``HP.EARLY``), each a single flight from ``t = 0`` certified by its backward flight; the
+    reference from the start at 30 digits meets the wall at ``t*`` first (a near-tangential
+    impact within its rounding over the speed, the turn within 1e-12).  Without the early
+    times none of them is built, and each says why."""
+    sc = NARROW_LONG
+    monkeypatch.setattr(impact_at_t, "construct", lambda scene, digits: (None, "not in this test"))
+    walls = ("grazing", "crossing_pair", "turn_at_wall")
+    with mpmath.workdps(HP.CONSTRUCT_DPS):
+        built, notes = {}, {}
+        HP._wall_kinds(sc, built, notes)
+    for name in walls:
+        c = built.get(name)
+        assert c is not None and "certified" in c.how, notes.get(name)
+        with mpmath.workdps(DPS + 10):
+            t_star, T = mpmath.mpf(c.t_event), 2 * mpmath.pi / sc.mpf("omega")
+            assert any(abs(t_star - T / 2 ** m) < mpmath.mpf(10) ** -20 for m in HP.EARLY)
+            first = reference.trajectory(sc, c.x, c.v, 2 * t_star, dps=DPS)[0]
+            assert first.kind in ("impact", "turn", "contact") and abs(first.x - sc.mpf("l")) < mpmath.mpf(10) ** -25
+            slack = mpmath.mpf(10) ** -12 if name == "turn_at_wall" else \
+                mpmath.mpf(10) ** -(HP.STATE_DIGITS - 5) / abs(first.v_before)
+            assert abs(first.t - t_star) < slack, (name, first, t_star)
+    monkeypatch.setattr(HP, "EARLY", ())
+    with mpmath.workdps(HP.CONSTRUCT_DPS):
+        built, notes = {}, {}
+        HP._wall_kinds(sc, built, notes)
+    assert not any(built.get(name) for name in walls)
+    assert all("no single flight from t = 0 reaches it" in notes[name] for name in walls)
+
+
 @pytest.mark.parametrize("name", list(SCENES))
 def test_fast_finds_the_reference_events_outside_the_band(name):
     """fast against the reference on the same float64 state: the first canonical event (the
