@@ -266,14 +266,16 @@ def construct(scene, digits: int):
     if case is not None:
         return case, None
     if not tried and why is None:
-        back = (f"; run backward from an impact at T (impact_backward: v* = {impact_backward.EVENT_SPEEDS[0]:g} V "
-                f"to {impact_backward.EVENT_SPEEDS[-1]:g} V at each wall, V = max(F/w, f T)), each of the "
-                f"{len(dead_ends)} motions stops or passes {impact_backward.MAX_SPEED:g} V before t = 0 (the last: "
-                f"{dead_ends[-1]}): on every motion screened, the bounces die before T"
-                if len(dead_ends) == 2 * len(impact_backward.EVENT_SPEEDS) else "")
         if scene.mpf("restitution") == 0:
             back = ("; at restitution 0 no motion runs backward through an impact (it leaves no speed: the "
                     "speed before it is not determined), so there is no backward screen")
+        elif len(dead_ends) == 2 * len(impact_backward.EVENT_SPEEDS):
+            back = (f"; run backward from an impact at T (impact_backward: v* = {impact_backward.EVENT_SPEEDS[0]:g} "
+                    f"V to {impact_backward.EVENT_SPEEDS[-1]:g} V at each wall, V = max(F/w, f T)), each of the "
+                    f"{len(dead_ends)} motions stops or passes {impact_backward.MAX_SPEED:g} V before t = 0 (the "
+                    f"last: {dead_ends[-1]}): on every motion screened, the bounces die before T")
+        else:
+            back = ""
         return None, (f"nor through earlier events: none of {N_SCAN - 1} starts from rest, nor at the "
                       f"speeds {speeds_text(scene, FAST_SPEEDS)} (those within {MORE_EVENTS:,} events of "
                       f"fast), brackets an impact at T{back}")
