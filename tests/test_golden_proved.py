@@ -287,6 +287,13 @@ def test_a_pair_route_input_takes_its_jacobian_from_its_proof_where_the_proof_pi
     assert golden.proved_jacobian(sc, res, other) is None
 
 
+def _random_input(sc, i, j):
+    """The float64 input ``x = l + (r - l) i / 64``, ``v = (j / 4) F / w`` of the properties below."""
+    l, r = sc.float("l"), sc.float("r")
+    return scenes.Case("random", repr(l + (r - l) * i / 64), repr(j / 4 * sc.float("F") / sc.float("omega")),
+                       "float64", "")
+
+
 @settings(max_examples=20, deadline=None)
 @given(position_forced_scenes(), st.integers(1, 63), st.integers(-8, 8))
 def test_a_random_input_outside_the_band_is_proved(sc, i, j):
@@ -297,9 +304,7 @@ def test_a_random_input_outside_the_band_is_proved(sc, i, j):
     restitution 0 the walk refused every plastic impact, and ``verify`` failed on such scenes
     (6 of 24 inputs unproved on one drawn at random); with that walk this test fails on a
     restitution-0 example ("impact ... leaves no speed (contact)")."""
-    l, r = sc.float("l"), sc.float("r")
-    case = scenes.Case("random", repr(l + (r - l) * i / 64), repr(j / 4 * sc.float("F") / sc.float("omega")),
-                       "float64", "")
+    case = _random_input(sc, i, j)
     res, enc = golden.first_proof(sc, case)
     assume(not golden_proof.band(sc, case, res["points"], res["events"]))
     assert enc.proved, (sc, case, enc.reason)
@@ -313,9 +318,7 @@ def test_a_random_input_outside_the_band_is_proved_without_position_forcing(sc, 
     outside the band.  With the walk of the last stop, two base-model scenes at restitution 0
     failed ``verify`` (10/18 and 15/20 inputs proved)."""
     sc = dataclasses.replace(sc, wavenumber=None)
-    l, r = sc.float("l"), sc.float("r")
-    case = scenes.Case("random", repr(l + (r - l) * i / 64), repr(j / 4 * sc.float("F") / sc.float("omega")),
-                       "float64", "")
+    case = _random_input(sc, i, j)
     assume(not golden_proof.band(sc, case))
     rec = golden_proof.enclosure(sc, case)
     assert rec["proved"], (sc, case, rec.get("reason"))

@@ -144,10 +144,9 @@ class Walk:
         self.to_flight(sign, {motion.wall_name(at[0]): 1} if at else {})
 
     def _start_at_rest(self, side):
-        m = self.m
-        ev = self.peek()
         if side:
             return self._at_rest_at_wall(side, self.point_t0)
+        m, ev = self.m, self.peek()
         held = ev is not None and ev.kind in ("stick", "contact") and ev.t == self.point_t0
         if held:
             self._refuse_mixed_stick("a start that sticks")
