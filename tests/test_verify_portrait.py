@@ -51,3 +51,41 @@ def test_a_map_too_coarse_changes_classes_and_the_second_look_puts_them_right():
     clear = _clear(det)
     got, _ = por.area_classes(sc, x, v, steps=16)
     assert list(got[clear]) == list(want[clear])
+
+
+def _orbit_starts(sc):
+    """The starts of the portrait's orbits (``verify.portrait._orbits``)."""
+    l, r, vmax = sc.float("l"), sc.float("r"), tasks.velocity_range(sc)
+    gx, gv = por.grid_starts((l, r, -vmax, vmax), 9, 9, l, r)
+    return np.clip(gx, l, r), gv
+
+
+@settings(max_examples=12, deadline=None)
+@given(sc=position_forced_scenes())
+def test_the_portraits_orbits_move_by_far_less_than_a_pixel_a_period(sc):
+    """One period of the drawn orbits on ``fast``'s map at ``PORTRAIT_ORBIT_STEPS`` lies within a
+    hundredth of a pixel (the 120 x 120 grid of the full portrait) of the default map's."""
+    import fast
+
+    x0, v0 = _orbit_starts(sc)
+    want = fast.stroboscopic_map(sc, x0, v0)
+    got = fast.stroboscopic_map(sc, x0, v0, steps_per_period=portrait.PORTRAIT_ORBIT_STEPS)
+    pixel = np.array([sc.float("r") - sc.float("l"), 2 * tasks.velocity_range(sc)]) / tasks.FULL.pixels
+    for a, b, p in zip(got, want, pixel):
+        assert np.abs(np.asarray(a) - np.asarray(b)).max() <= p / 100
+
+
+def test_the_orbits_are_iterated_on_the_coarse_map_asked_for():
+    """``run_orbits(steps=S)`` is ``fast``'s map at ``S`` steps a period, iterate for iterate
+    (not the default map, which differs from it in the last digits)."""
+    import fast
+
+    sc = Scene(F=2, f=0, omega="0.5", l=-1, r=1, wavenumber=2, name="test: portrait orbit steps")
+    x0, v0 = _orbit_starts(sc)
+    xs, vs, _ = por.run_orbits(sc, x0, v0, 3, steps=portrait.PORTRAIT_ORBIT_STEPS)
+    x, v = x0, v0
+    for k in range(3):
+        x, v = fast.stroboscopic_map(sc, x, v, steps_per_period=portrait.PORTRAIT_ORBIT_STEPS)
+        assert np.array_equal(xs[k + 1], x) and np.array_equal(vs[k + 1], v)
+    default, _, _ = por.run_orbits(sc, x0, v0, 1)
+    assert not np.array_equal(default[1], xs[1])

@@ -79,23 +79,25 @@ def birkhoff_digits(xs, vs, walls=None):
         return -np.log10(worst)
 
 
-def _step(scene, x, v, zero_velocity=True):
+def _step(scene, x, v, zero_velocity=True, steps=None):
     """One period for a flat batch: ``(x1, v1, zero_velocity)`` (one engine pass when it offers one).
     ``zero_velocity=False``: the map alone, ``zero_velocity`` all False (issue 33: fast's map with
     its Jacobian costs 1.33 times the map alone under position forcing, and gives the same map bit
-    for bit; a portrait of a frictionless scene, which needs no ``Omega_dissip``, 32 -> 25 CPU s)."""
+    for bit; a portrait of a frictionless scene, which needs no ``Omega_dissip``, 32 -> 25 CPU s).
+    ``steps``: ``fast``'s ``steps_per_period`` (position forcing; None: its default map)."""
     fe = engine()
+    opt = {} if steps is None else {"steps_per_period": steps}
     if not zero_velocity:
-        x1, v1 = fe.stroboscopic_map(scene, x, v)
+        x1, v1 = fe.stroboscopic_map(scene, x, v, **opt)
         return np.asarray(x1, float), np.asarray(v1, float), np.zeros(np.shape(x), bool)
     if hasattr(fe, "map_and_jacobian"):
-        x1, v1, _J, zv = fe.map_and_jacobian(scene, x, v)
+        x1, v1, _J, zv = fe.map_and_jacobian(scene, x, v, **opt)
         return np.asarray(x1, float), np.asarray(v1, float), np.asarray(zv, bool)
-    x1, v1 = fe.stroboscopic_map(scene, x, v)
+    x1, v1 = fe.stroboscopic_map(scene, x, v, **opt)
     return np.asarray(x1, float), np.asarray(v1, float), np.asarray(fe.zero_velocity(scene, x, v), bool)
 
 
-def run_orbits(scene, x0, v0, n, track_dissip=None):
+def run_orbits(scene, x0, v0, n, track_dissip=None, steps=None):
     """Iterate a batch of starts ``n`` times.
 
     Returns ``(xs, vs, first_dissip)``: iterates of shape ``(n + 1, m)`` and, per
@@ -103,7 +105,8 @@ def run_orbits(scene, x0, v0, n, track_dissip=None):
     in ``z_0 .. z_{n-1}``).  ``track_dissip`` defaults to ``f > 0``; when False every
     orbit gets ``n + 1``.  A dissipative orbit that has reached a fixed point
     (``Phi(z) = z`` exactly: after sticking the state repeats bit for bit) is frozen
-    there instead of being iterated further (it would not move).
+    there instead of being iterated further (it would not move).  ``steps``: ``fast``'s
+    ``steps_per_period`` under position forcing (None: the default map; ``_step``).
     """
     x = np.asarray(x0, float).ravel().copy()
     v = np.asarray(v0, float).ravel().copy()
@@ -117,7 +120,7 @@ def run_orbits(scene, x0, v0, n, track_dissip=None):
     for k in range(n):
         idx = np.nonzero(live)[0]
         if idx.size:
-            x1, v1, zv = _step(scene, x[idx], v[idx], track_dissip)
+            x1, v1, zv = _step(scene, x[idx], v[idx], track_dissip, steps)
             if track_dissip:
                 new = zv & (first[idx] > n)
                 first[idx[new]] = k

@@ -33,6 +33,16 @@ _MARKERS = {1: "o", 2: "s", 3: "^"}
 #: ``|det - 1|`` on ``Omega_pres`` is 2.0e-10 and 1.6e-11 on D and F at ``S = 48``, 2.1e-10 and
 #: 8.4e-12 at the default 128 (rounding, not truncation, sets it); at ``S = 16``, 1.6e-9 and 3.9e-9.
 PORTRAIT_STEPS = 24
+#: ``fast``'s ``steps_per_period`` of the orbits drawn over the shading (``_orbits``: 81 starts,
+#: ``n_iter`` periods each; position forcing).  On the frictionless ``F=2 f=0 omega=0.5 l=-1 r=1
+#: wavenumber=2`` (issue 33), whose orbits neither stick nor stop, they were 20.3 of the
+#: portrait's 24.5 CPU s on the default map (~40 impacts a period of 12.6).  A picture needs the
+#: iterates to a pixel, not to an ulp: one period at ``S = 32`` errs ~5e-11 (1e-13 at 64), and
+#: the orbits take 5.7 CPU s there (10.5 at 64).  On seven position-forced scenes (567 orbits,
+#: one run each) the classes (regular, chaotic, dissipative) and the first dissipative iterates
+#: are those of the default map but for one orbit, which also changes class at ``S = 64``: a
+#: Birkhoff average at the regular threshold, which a move of 1e-13 tips.
+PORTRAIT_ORBIT_STEPS = 32
 
 
 def pixel_centres(window, pixels):
@@ -60,7 +70,7 @@ def _orbits(ax, sc, window, depth):
     l, r = sc.float("l"), sc.float("r")
     side = max(3, int(round(np.sqrt(depth.n_iter / 4))))
     gx, gv = por.grid_starts(window, side, side, l, r)
-    xs, vs, first = por.run_orbits(sc, np.clip(gx, l, r), gv, depth.n_iter)
+    xs, vs, first = por.run_orbits(sc, np.clip(gx, l, r), gv, depth.n_iter, steps=PORTRAIT_ORBIT_STEPS)
     cls, _ = por.orbit_classes(sc, xs, vs, first)
     draw_orbits(ax, xs, vs, cls)
     diss = cls == "dissip"
