@@ -240,7 +240,7 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     Newton diverged (``diverged``) none is tried, nor after a rung of ``WHOLE_LOSS_PREC`` bits or
     more whose residual ball is 1 wide (every bit lost: not rounding)."""
     sc = scenes.scene("fig:xpotno")
-    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle"})()
+    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0})()
     monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
     monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a: None)
     ladder = [prec for prec, _ in tasks.PROOF_LADDER]
@@ -257,9 +257,12 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
         monkeypatch.setattr(tasks, "prove", fake)
         assert tasks._proof("o", sc, p, 1, None)["proved"] is False and calls == tried
     assert tasks._may_hold(96, 2.0 ** -48, 53) is False and tasks._may_hold(128, 2.0 ** -64, 53) is True
-    p.kind, calls[:] = "parabolic", []
+    p.kind, p.trace, calls[:] = "parabolic", -2.0 + 1e-10, []     # flip-parabolic: det(P' - I) ~ 4
     rec = tasks._proof("o", sc, p, 1, None)
     assert calls == [64] and "parabolic" in rec["reason"]
+    p.trace = 2.0 - 1e-10                                           # det(P' - I) ~ 0: not attempted
+    rec = tasks._proof("o", sc, p, 1, None)
+    assert calls == [64] and rec["reason"] == tasks.SINGULAR and rec["proved"] is False
     p.kind, calls[:] = "saddle", []
 
     def every_bit_lost(label, sc, x, v, k, prec, radius, phase, points, tight):

@@ -228,15 +228,27 @@ def _may_hold(prec, radius, lost) -> bool:
     return 2.0 ** (lost - prec) <= RESIDUAL_SLACK * 2 * r
 
 
+#: the reason of an orbit not attempted because ``P' - I`` is singular in float64: ``tr P'`` within
+#: ``periodic.PARABOLIC_TOL`` of +2 and ``det P'`` within ``claim_unit_det`` of 1 give
+#: ``|det(P' - I)| = |det - tr + 1| <= 2e-9``, so ``C = (P' - I)^-1`` is at least ~5e8 and the first
+#: rung's box (``2^-32``) cannot contract: ``C`` times the spread of ``P'`` over it is ~1.  Issue 33:
+#: on the frictionless far corner ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2`` (families of fixed
+#: points) the 16 such attempts took 10.2 of the orbits' ~105 CPU s; in the reports of this issue's
+#: sweeps none of 936 parabolic points was ever proved.  A flip-parabolic point (``tr ~ -2``:
+#: ``det(P' - I) ~ 4``) is still tried.
+SINGULAR = ("not attempted: parabolic with tr P' ~ +2 in float64 (|tr - 2| <= PARABOLIC_TOL, |det - 1| "
+            "<= claim_unit_det): det(P' - I) ~ 0, whose inverse the Krawczyk operator needs")
+
+
 def _proof(label, sc, p, period, seg) -> dict:
     """The Krawczyk proof record of one orbit (``paper.claims.base.prove``), up the
     ``PROOF_LADDER`` (a segment of no-impact fixed points: ``prove_segment`` at its default); a
     proof that raises is a failed one, with the reason.  One point log, from the section's state
     at the first rung's digits, guides the walks of every rung (``prove_periodic``'s ``points``).
 
-    An orbit that ``fast`` finds parabolic (``|tr P' -+ 2| <= periodic.PARABOLIC_TOL``: ``det(P'
-    - I)`` is ~0, the Krawczyk operator's ``(P' - I)^-1`` ~1e9 or singular, and Newton converges
-    only linearly) is tried on the first rung alone.  Issue 33: on the frictionless scene ``F=2
+    An orbit that ``fast`` finds flip-parabolic (``|tr P' + 2| <= periodic.PARABOLIC_TOL``: Newton
+    converges only linearly) is tried on the first rung alone; one with ``tr P' ~ +2`` is not
+    tried (``SINGULAR``: ``det(P' - I)`` is ~0).  Issue 33: on the frictionless scene ``F=2
     f=0 omega=0.5 l=-1 r=1 wavenumber=2`` 127 of the 138 period-1 points are parabolic (families
     of fixed points), and each failed up the whole ladder in ~32 CPU s (128 bits: 9.9, 320: 21.9);
     ``orbits`` gives its ``max_proofs`` to the other orbits first.  Where Newton diverges
@@ -246,6 +258,8 @@ def _proof(label, sc, p, period, seg) -> dict:
     ``tight=False``: the report gives them to 4 digits), one walk fewer a proof."""
     from reference.enclosure.maps import point_log
 
+    if p.kind == "parabolic" and p.trace > 0:
+        return {"orbit": label, "periods": period, "proved": False, "reason": SINGULAR}
     try:
         if seg is not None:
             return prove(label, sc, p.x, p.v, k=period, segment=seg)
