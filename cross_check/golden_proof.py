@@ -112,6 +112,14 @@ def enclosure(sc, case, first=None) -> dict:
 #: many steps); 128 is tried where 64 does not prove (issue 33, scene D: 5.8 -> 3.9 CPU s for its
 #: 16 inputs, the same flags; 2.0 of the 3.9 are the moves of the 5 inputs no proof settles)
 BAND_PRECS = (64, 128)
+#: digits of the reference's runs from the moved starts where no proof settles ``band`` (the
+#: input's own itinerary comes from its ``PROVED_DPS`` run).  A move is ``compare_band_ulps`` ulps:
+#: its itinerary differs from the input's only if an event is that close to grazing, which 30
+#: digits resolve with ~15 to spare.  Issue 33, the frictionless far corner ``F=2 f=0 omega=0.5
+#: l=-1 r=1 wavenumber=2`` (11 to 49 impacts a period): the box proofs fail on 6 of its 8 samples
+#: (the walk's balls wrap by ~1e15 over 30 impacts, where ``|Phi'|`` is ~12), and the six moves
+#: took 1.9 to 3.9 CPU s an input at 50 digits, 1.1 to 2.2 at 30, the same itineraries (one run)
+BAND_MOVE_DPS = 30
 
 
 def band(sc, case, points=None, events=None) -> bool:
@@ -119,7 +127,8 @@ def band(sc, case, points=None, events=None) -> bool:
     ``compare_band_ulps`` ulps), settled first by a proof: if ``enclose_map`` proves one itinerary
     for every start of the box that holds all the moves (cut to the gap), none flips (issue 33:
     the six moved runs of the reference were a quarter of a position-forced input's cost; the
-    proof costs a fifth of them).  Where no proof holds (near grazing) the moves are run.
+    proof costs a fifth of them).  Where no proof holds (near grazing, or where the walk's balls
+    wrap: ``BAND_MOVE_DPS``) the moves are run.
 
     ``points``: the input's own point log (``golden.compute``'s), to guide the proofs as it
     guides ``position_proof``: the box is a few ulps around the input, and a guide only guides
@@ -136,7 +145,7 @@ def band(sc, case, points=None, events=None) -> bool:
         if enclose_map(sc, (lo + hi) / 2, Fraction(V), x_radius=(hi - lo) / 2, v_radius=Fraction(uv),
                        prec=prec, max_prec=prec, points=points).proved:
             return False
-    return compare.reference_in_band(sc, case, events=events)
+    return compare.reference_in_band(sc, case, dps=BAND_MOVE_DPS, events=events)
 
 
 def midpoints(balls) -> list:

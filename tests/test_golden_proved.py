@@ -202,9 +202,9 @@ def test_band_guided_by_the_inputs_own_log_runs_no_point_integrator_and_a_wrong_
 def test_band_moves_compare_with_the_inputs_own_run(monkeypatch):
     """Where no proof settles the band (at rest on a wall) the six moves are run and compared with
     the input's own dps-50 itinerary: given that run's events (``golden.compute``'s, at
-    ``PROVED_DPS``, the digits ``reference_in_band`` runs at) the reference runs the moves alone,
-    with the same flag (the moves up to the first that flips); without them it runs the input
-    too."""
+    ``PROVED_DPS``, the digits ``reference_in_band`` runs at by default) the reference runs the
+    moves alone, at ``BAND_MOVE_DPS``, with the same flag (the moves up to the first that flips);
+    without them it runs the input too."""
     import inspect
 
     from cross_check import golden_proof
@@ -219,6 +219,12 @@ def test_band_moves_compare_with_the_inputs_own_run(monkeypatch):
     assert golden_proof.band(sc, at_rest, res["points"], res["events"]) is True
     moves = [c for c in runs]
     assert moves and all(c is not at_rest for c in moves)      # up to the first move that flips
+    assert golden_proof.BAND_MOVE_DPS < golden.PROVED_DPS
+    monkeypatch.setattr(compare, "ref_events", lambda *a: runs.append(a[3]) or ref_events(*a))
+    runs.clear()
+    assert golden_proof.band(sc, at_rest, res["points"], res["events"]) is True
+    assert runs == [golden_proof.BAND_MOVE_DPS] * len(moves)
+    monkeypatch.setattr(compare, "ref_events", lambda *a: runs.append(a[1]) or ref_events(*a))
     runs.clear()
     assert golden_proof.band(sc, at_rest) is True and runs[0] is at_rest and runs[1:] == moves
 
