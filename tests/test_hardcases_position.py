@@ -253,6 +253,42 @@ def test_impact_at_T_at_restitution_0_through_plastic_impacts(monkeypatch):
     assert case is None and "brackets an impact at T" in why
 
 
+def test_impact_at_T_refinement_refuses_a_jump_and_keeps_a_steep_root(monkeypatch):
+    """``impact_at_t._refine`` on model ``h = t_j(x0) - T`` (the reference's runs replaced): a
+    jump (``h`` = +1.1 left of ``x = 0.3``, -1.1 right of it, as an earlier event grazing makes
+    on the frictionless far corner of issue 33) is refused as a jump in fewer than
+    ``MAX_REFINE`` runs, and without ``JUMP_SLOPE`` it takes them all; a root where ``h`` is
+    ~220 times steeper than across the bracket is found (``|h| < 10^-(digits + 3)``)."""
+    from types import SimpleNamespace
+
+    runs = []
+
+    def model(h):
+        def trajectory(scene, x0, t_end, v0="0"):
+            runs.append(x0)
+            return [SimpleNamespace(kind="impact", t=h(x0) + T)]
+        return trajectory
+
+    T = mpmath.mpf(10)
+    jump = model(lambda x: mpmath.mpf("1.1") if x < mpmath.mpf("0.3") else mpmath.mpf("-1.1"))
+    monkeypatch.setattr(impact_at_t, "_trajectory", jump)
+    with mpmath.workdps(impact_at_t.REFINE_DPS + 10):
+        with pytest.raises(ConstructionError, match="jumps in"):
+            impact_at_t._refine(None, 0.25, 0.32, T, HP.STATE_DIGITS)
+        assert len(runs) < impact_at_t.MAX_REFINE
+        monkeypatch.setattr(impact_at_t, "JUMP_SLOPE", mpmath.inf)
+        runs.clear()
+        with pytest.raises(ConstructionError, match="no start"):
+            impact_at_t._refine(None, 0.25, 0.32, T, HP.STATE_DIGITS)
+        assert len(runs) == impact_at_t.MAX_REFINE + 2          # the two ends, then the bound
+        monkeypatch.undo()
+        # steep near its root, shallow elsewhere: ~220 times the bracket's secant slope at x = 0.3
+        steep = model(lambda x: mpmath.atan(10000 * (mpmath.mpf("0.3") - x)) / 10)
+        monkeypatch.setattr(impact_at_t, "_trajectory", steep)
+        x0, kinds, j = impact_at_t._refine(None, 0.25, 0.32, T, HP.STATE_DIGITS)
+        assert abs(x0 - mpmath.mpf("0.3")) < mpmath.mpf(10) ** -(HP.STATE_DIGITS + 3) and kinds == ["impact"]
+
+
 def test_impact_at_T_narrowed_by_fast_gives_the_same_start_or_falls_back(monkeypatch):
     """fast narrows scene C's bracket (``_narrowed``) to one that still brackets in fast, ~1e7
     times narrower, around the start the reference places; a narrowed bracket in which the

@@ -19,7 +19,8 @@ itinerary from rest, and certified by the forward proof of that itinerary:
 2. **refine** (fast narrows the bracket, ``_narrowed``; then the reference, ``REFINE_DPS``
    digits): regula falsi (Illinois) on
    ``h(x0) = t_j(x0) - T`` in that bracket, the itinerary before the impact held fixed (a change
-   is a ``ConstructionError``), at most ``MAX_REFINE`` runs, to ``|h| < 10^-(STATE_DIGITS + 3)``;
+   is a ``ConstructionError``, and so is a jump of ``t_j``: ``JUMP_SLOPE``), at most ``MAX_REFINE``
+   runs, to ``|h| < 10^-(STATE_DIGITS + 3)``;
    the start is ``x0`` to ``STATE_DIGITS`` digits and the bracket's ``v0``;
 3. **certify**: ``reference.enclosure.enclose_map`` proves the start's itinerary over ``[0, T]``
    forward, on validated flights (``reference.enclosure.lohner``): every other event excluded,
@@ -49,6 +50,13 @@ REFINE_DPS = 40
 #: the refinement's bound on reference runs per bracket (regula falsi takes ~10 from fast's
 #: bracket; the bound keeps a stalled one to a few seconds)
 MAX_REFINE = 24
+#: a bracket whose ends both stay farther from ``T`` than ``JUMP_SLOPE`` times its first secant
+#: slope times its width is a jump of ``t_j``, not a root (``_refine``): a root inside would need
+#: a slope ``JUMP_SLOPE`` times that of the whole bracket.  Issue 33, the frictionless far corner
+#: ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2``: two brackets from rest straddle a jump of the
+#: fourth impact's time (``h`` = +1.11 on one side, -1.12 on the other: an earlier event grazes),
+#: and took all ``MAX_REFINE`` runs each (8.6 of the case's 19.7 CPU s)
+JUMP_SLOPE = 1000
 #: brackets from rest tried, nearest the middle of the gap first
 MAX_BRACKETS = 3
 #: the speeds of the other scans, in units of ``V = max(F/w, f T)`` (``speeds``), and the brackets
@@ -226,7 +234,7 @@ def _refine(scene, xa, xb, T, digits, v0="0"):
     ha, hb = log[j].t - T, _impact_time(scene, b, j, kinds, T, v0)
     if not ha * hb < 0:
         raise ConstructionError(f"the reference does not bracket an impact at T in [{xa!r}, {xb!r}]")
-    side = 0
+    side, slope = 0, abs(hb - ha) / abs(b - a)
     for _ in range(MAX_REFINE):
         c = (a * hb - b * ha) / (hb - ha)
         hc = _impact_time(scene, c, j, kinds, T, v0)
@@ -238,6 +246,10 @@ def _refine(scene, xa, xb, T, digits, v0="0"):
         else:
             a, ha = c, hc
             hb, side = (hb / 2, 1) if side == 1 else (hb, 1)
+        if JUMP_SLOPE * slope * abs(b - a) < min(abs(ha), abs(hb)):     # Illinois' halved h: smaller
+            raise ConstructionError(f"the impact time jumps in [{mpmath.nstr(a, 17)}, {mpmath.nstr(b, 17)}] "
+                                    f"(t_j - T of each sign, at least {mpmath.nstr(min(abs(ha), abs(hb)), 3)} "
+                                    f"from 0 at its ends): an earlier event grazes there, no root")
     raise ConstructionError(f"no start with its impact within 1e-{digits + 3} of T after {MAX_REFINE} runs")
 
 
