@@ -261,8 +261,29 @@ def _refined(scene, xa, xb, T, digits, v0="0"):
         try:
             return _refine(scene, na, nb, T, digits, v0)
         except ConstructionError:
-            pass
+            if _fast_jump(scene, (xa, xb), (na, nb), v0):
+                raise ConstructionError(f"the impact time jumps in fast's narrowed bracket [{na!r}, {nb!r}] "
+                                        f"(JUMP_SLOPE), and the reference finds no root in it") from None
     return _refine(scene, xa, xb, T, digits, v0)
+
+
+def _fast_jump(scene, wide, narrow, v0) -> bool:
+    """Whether fast's ``t_j - T`` at the ends of its ``narrow`` bracket (``_narrowed``) are both
+    farther from 0 than ``JUMP_SLOPE`` times the ``wide`` bracket's secant slope times the narrow
+    width: a jump (an earlier event grazes), which the reference's refinement of ``wide`` would
+    only find again (``_refine``: 15 runs on the frictionless far corner of issue 33, twice).
+    fast only screens: a jump it sees costs a bracket, never a wrong case."""
+    x = np.array([wide[0], narrow[0], narrow[1], wide[1]])
+    T, h = scene.period, []
+    for a, b in ((0, 3), (1, 2)):
+        la, lb = logs(scene, x[[a, b]], v0, 1.25 * T)
+        pair = [(ea.t - T, eb.t - T) for ea, eb in zip(la, lb) if ea.kind == eb.kind == "impact"
+                and (ea.t - T) * (eb.t - T) < 0]
+        if not pair:
+            return False
+        h.append(pair[0])
+    slope = abs(h[0][1] - h[0][0]) / (wide[1] - wide[0])
+    return JUMP_SLOPE * slope * (narrow[1] - narrow[0]) < min(abs(h[1][0]), abs(h[1][1]))
 
 
 def construct(scene, digits: int):
