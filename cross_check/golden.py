@@ -43,9 +43,10 @@ import sys
 import mpmath
 
 from cross_check.agreement import compare
-from cross_check import golden_proof, outputs, scenefile, scenes
+from cross_check import golden_chatter, golden_proof, outputs, scenefile, scenes
 from cross_check.progress import Progress
 from cross_check.tolerances import tol
+from reference.enclosure.balls import from_mpf
 
 GOLDEN_DPS = 90
 CHECK_DPS = GOLDEN_DPS + 20
@@ -232,14 +233,15 @@ def record(sc, res: dict) -> dict:
 PROVED_DPS = 50
 
 
-def outside_proof(res: dict, enc, sc) -> str | None:
+def outside_proof(res: dict, enc, sc, restarted=()) -> str | None:
     """Why the point run ``res`` is not certified by the proof ``enc`` of the same input, or
     ``None``: ``enc`` proved within ``golden_enclosure_floor``, the same canonical itinerary, the
     Jacobian defined in both, and every value ``a`` that ``record`` writes (``Phi``, the events'
     ``t, x, v, v-``, ``Phi'``) with its whole ball within ``golden_proved_agreement`` of it:
     ``|b - a| <= rtol max(1, |a|)`` for every ``b`` of the ball (times ``kappa`` for ``Phi'``, as
     the self-check) -- the true value, which the ball holds, is then that close to ``a``: what the
-    dps-110 run establishes by agreement, here by proof."""
+    dps-110 run establishes by agreement, here by proof.  ``restarted``: the canonical indices of
+    chatter events whose time a restart pair checks instead (``golden_chatter``)."""
     floor = tol("golden_enclosure_floor").rtol
     if not enc.proved:
         return f"not proved: {enc.reason}"
@@ -249,6 +251,8 @@ def outside_proof(res: dict, enc, sc) -> str | None:
     b = {"phi": enc.phi, "jacobian": enc.jacobian, "events": _proved_events(enc, sc)}
     if [e.kind for e in a["events"]] != [e.kind for e in b["events"]]:
         return f"itineraries differ: {[e.kind for e in a['events']]} vs proved {[e.kind for e in b['events']]}"
+    for i in restarted:                 # checked by the restart pair, within the proof's ball
+        b["events"][i] = b["events"][i]._replace(t=from_mpf(a["events"][i].t))
     if (a["jacobian"] is None) != (b["jacobian"] is None):
         return "Jacobian defined in one of the point run and the proof only"
     rtol, k = tol("golden_proved_agreement").rtol, kappa(sc, res)
@@ -288,7 +292,9 @@ def first_proof(sc, case):
 def proved_values(sc, case, first=None):
     """``(res, enc)``: a position-forced input's values from one ``PROVED_DPS`` run and its
     Jacobian from its proof's balls (their midpoints: ``Phi'`` to ~1e-47, ``full_derivative``),
-    every one certified by that proof (``outside_proof``), or ``None`` where that does not hold
+    every one certified by that proof (``outside_proof``) -- the accumulation times of chatter runs,
+    which the proof pins only to ~1e-11, by restart pairs instead (``golden_chatter``:
+    ``"restarted"`` in the result) -- or ``None`` where that does not hold
     -- then the dps 90 / 110 pair decides (``_self_checked``), as for every other effect.
 
     Issue 33, measured on an unseen scene (``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``, 24
@@ -308,7 +314,15 @@ def proved_values(sc, case, first=None):
     if not enc.proved or enc.jacobian is None:
         return None
     res = {**res, "jacobian": golden_proof.midpoints(enc.jacobian), "jacobian_note": None}
-    return (res, enc) if outside_proof(res, enc, sc) is None else None
+    if outside_proof(res, enc, sc) is None:
+        return res, enc
+    chatter = [i for i, _ in golden_chatter.restarts(sc, enc)]
+    if not chatter or outside_proof(res, enc, sc, chatter) is not None:
+        return None                     # something besides the accumulation times is unpinned
+    got = golden_chatter.chatter_times(sc, res, enc)
+    if got is None or outside_proof(got[0], enc, sc, got[1]) is not None:
+        return None
+    return {**got[0], "restarted": True}, enc
 
 
 #: ``jacobian_note`` of a dps 90 / 110 input whose ``Phi'`` comes from its proof (``_self_checked``)
@@ -342,7 +356,8 @@ def _self_checked(sc, case, where, enc=None) -> dict:
     floor, the two runs skip the Jacobian (Table 1's product, 46% of a position-forced run) and
     ``Phi'`` comes from the proof (``proved_jacobian``; ``jacobian_note`` says so), else they
     compute it.  Issue 33: a chatter input, whose proof pins ``Phi`` to ~1e-54 but the
-    accumulation time only to ~1e-11, takes this route on every position-forced scene."""
+    accumulation time only to ~1e-11, took this route on every position-forced scene; now only
+    where its restart pairs do not hold (``golden_chatter``)."""
     from_proof = _pins_jacobian(enc)
     res, check = (compute(sc, case, dps, jacobian=not from_proof) for dps in (GOLDEN_DPS, CHECK_DPS))
     why = disagreement(res, check, sc)
@@ -381,6 +396,8 @@ def case_entry(sc, case) -> dict:
         proved = proved_values(sc, inp, first)
         if proved is not None:
             (res, enc), head = proved, {"x": inp.x, "v": inp.v, "dps": PROVED_DPS}
+            if res.get("restarted"):
+                head["chatter_dps"] = list(golden_chatter.RESTART_DPS)
         else:       # the dps 90 / 110 pair; its proof record is still the first proof (input_proof)
             where = f"{sc.name} / {case.name} / {label}"
             enc = None if first is None else first[1]
@@ -403,6 +420,8 @@ def document(sc, cases: list, n_sample: int = N_SAMPLE, generator: str = "python
             "precision), every written number of which that enclosure proves within "
             "golden_proved_agreement (1e-40; Phi' x kappa) of the true value, in place of the "
             f"dps-{CHECK_DPS} run; the others: dps {GOLDEN_DPS} checked at {CHECK_DPS}")
+    if any("chatter_dps" in inp for case in cases for inp in case["inputs"].values()):
+        doc["provenance"]["chatter_restart"] = golden_chatter.PROVENANCE
     return doc
 
 

@@ -262,9 +262,10 @@ def test_a_proof_that_holds_but_is_too_wide_climbs_one_that_fails_does_not(monke
     assert not golden_proof.position_proof(sc, case, points).proved and calls == [64]
 
 
-def test_a_pair_route_input_takes_its_jacobian_from_its_proof_where_the_proof_pins_it():
+def test_a_pair_route_input_takes_its_jacobian_from_its_proof_where_the_proof_pins_it(monkeypatch):
     """A chatter start (``hardcases``' explicit start at ``r``): its proof pins ``Phi`` but the
-    accumulation time only to ~1e-11, so the dps 90 / 110 runs check its values
+    accumulation time only to ~1e-11; its restart pairs give that time (``golden_chatter``), and
+    where they do not hold (made to fail here) the dps 90 / 110 runs check its values
     (``_self_checked``).  They skip the Jacobian, which comes from the proof (``jacobian_note``
     says so), and the written strings are those of the dps-90 run's own Jacobian.  Refused
     (``proved_jacobian`` gives ``None``): the proof's Jacobian balls widened beyond
@@ -280,6 +281,8 @@ def test_a_pair_route_input_takes_its_jacobian_from_its_proof_where_the_proof_pi
     hc = built["chatter"]
     case = scenes.Case(hc.name, hc.x, hc.v, "decimal", hc.how, hc.kind, hc.t_event)
     first = golden.first_proof(sc, case)
+    assert golden.proved_values(sc, case, first)[0]["restarted"]                 # the restart route
+    monkeypatch.setattr(golden.golden_chatter, "chatter_times", lambda *a: None)
     assert golden.proved_values(sc, case, first) is None and first[1].proved     # the pair route
     res = golden._self_checked(sc, case, "test", first[1])
     assert res["jacobian_note"] == golden.PROVED_JACOBIAN

@@ -1,0 +1,81 @@
+"""Chatter inputs under position forcing (issue 33): each accumulation time from a restart pair
+(``cross_check.golden_chatter``) at the proof's last tight bounce, every other value from the
+dps-50 run that the proof certifies (``golden.proved_values``).
+
+Held to the dps 90 / 110 route: on a sample of the narrow corner (every input chatters three
+times a period) every written string is the one that route writes.  Seen to refuse, each time
+falling back to the full pair: a restart pair that disagrees beyond ``golden_self_agreement``,
+an accumulation time outside the proof's ball, a restart that finds no chatter; and the
+exemption covers the accumulation times alone (a moved ``Phi`` is still refused)."""
+from __future__ import annotations
+
+import mpmath
+import pytest
+
+from cross_check import golden, golden_chatter
+from cross_check.agreement import compare
+from reference.scene import Scene
+
+#: the narrow corner of issue 33 (not shipped): a gap of 0.2, a period of 12.6, e = 0.6
+NARROW = Scene(F=3, f="0.3", omega="0.5", l=0, r="0.2", wavenumber=2, restitution="0.6",
+               name="test: narrow corner, chatter")
+
+
+@pytest.fixture(scope="module")
+def first():
+    from cross_check import scenes
+
+    name = scenes.register(NARROW) if NARROW.name not in scenes.SCENES else NARROW.name
+    case = scenes.sample_states(name, golden.N_SAMPLE)[0]
+    res, enc = golden.first_proof(NARROW, case)
+    return case, {**res, "jacobian": golden.golden_proof.midpoints(enc.jacobian), "jacobian_note": None}, enc
+
+
+def test_a_chatter_input_writes_the_strings_of_the_dps_90_110_route(first):
+    case, _, _ = first
+    proved = golden.proved_values(NARROW, case)
+    assert proved is not None and proved[0].get("restarted")
+    kinds = [e.kind for e in compare.canonical(proved[0]["events"], NARROW)]
+    assert kinds.count("chatter") == 3
+    pair = golden.compute(NARROW, case, golden.GOLDEN_DPS)
+    assert golden.record(NARROW, proved[0]) == golden.record(NARROW, pair)
+
+
+def test_the_dps_50_run_alone_is_refused_and_the_exemption_covers_the_accumulation_times_alone(first):
+    _, res, enc = first
+    assert "not within" in golden.outside_proof(res, enc, NARROW)          # t_inf: ~1e-11 from the proof
+    chatter = [i for i, _ in golden_chatter.restarts(NARROW, enc)]
+    assert golden.outside_proof(res, enc, NARROW, chatter) is None
+    moved = {**res, "phi": (res["phi"][0] * (1 + mpmath.mpf(10) ** -38), res["phi"][1])}
+    assert "not within" in golden.outside_proof(moved, enc, NARROW, chatter)
+
+
+@pytest.mark.parametrize("fault", ["disagree", "outside", "none"])
+def test_a_restart_pair_that_does_not_hold_is_refused(first, monkeypatch, fault):
+    """``chatter_times`` says no (then ``proved_values`` gives the input to the full pair)."""
+    _, res, enc = first
+    real = golden_chatter.restart
+
+    def faulty(sc, enc, k, upper, dps):
+        t = real(sc, enc, k, upper, dps)
+        if fault == "none":
+            return None
+        with mpmath.workdps(dps + 10):
+            if fault == "disagree":
+                return t + (mpmath.mpf(10) ** -35 if upper else 0)
+            return t + mpmath.mpf(10) ** -6                      # both, outside the 1e-11 ball
+
+    assert golden_chatter.chatter_times(NARROW, res, enc) is not None
+    monkeypatch.setattr(golden_chatter, "restart", faulty)
+    assert golden_chatter.chatter_times(NARROW, res, enc) is None
+
+
+def test_a_restart_starts_at_a_tight_bounce_and_no_proof_of_chatter_has_none(first):
+    _, _, enc = first
+    pairs = golden_chatter.restarts(NARROW, enc)
+    assert len(pairs) == 3
+    for i, k in pairs:
+        assert enc.events[k].kind == "impact" and golden_chatter._radius(enc.events[k]) <= golden_chatter.RESTART_RADIUS
+        assert golden_chatter._radius(enc.events[k + 2]) > golden_chatter.RESTART_RADIUS    # the next bounce
+    plain = type(enc)(True, events=[e for e in enc.events if e.kind != "chatter"])
+    assert golden_chatter.restarts(NARROW, plain) == []
