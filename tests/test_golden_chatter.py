@@ -11,9 +11,12 @@ from __future__ import annotations
 
 import mpmath
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 from cross_check import golden, golden_chatter
 from cross_check.agreement import compare
+from cross_check.scenes import Case
 from reference.scene import Scene
 
 #: the narrow corner of issue 33 (not shipped): a gap of 0.2, a period of 12.6, e = 0.6
@@ -79,3 +82,18 @@ def test_a_restart_starts_at_a_tight_bounce_and_no_proof_of_chatter_has_none(fir
         assert golden_chatter._radius(enc.events[k + 2]) > golden_chatter.RESTART_RADIUS    # the next bounce
     plain = type(enc)(True, events=[e for e in enc.events if e.kind != "chatter"])
     assert golden_chatter.restarts(NARROW, plain) == []
+
+
+@pytest.mark.slow
+@settings(max_examples=6, deadline=None)
+@given(i=st.integers(1, 63), j=st.integers(-8, 8))
+def test_a_random_chatter_input_writes_the_strings_of_the_dps_90_110_route(i, j):
+    """On random float64 inputs of the narrow corner (``x = l + (r - l) i / 64``, ``v = (j / 4)
+    F / w``), wherever the restart route holds, the record is the dps-90 run's (checked at 110)."""
+    x, v = repr(0.2 * i / 64), repr(j / 4 * 3 / 0.5)
+    case = Case("random", x, v, "float64", "")
+    proved = golden.proved_values(NARROW, case)
+    assume(proved is not None and proved[0].get("restarted"))   # else the full pair decides
+    pair = golden.compute(NARROW, case, golden.GOLDEN_DPS)
+    assert golden.disagreement(pair, golden.compute(NARROW, case, golden.CHECK_DPS), NARROW) is None
+    assert golden.record(NARROW, proved[0]) == golden.record(NARROW, pair)
