@@ -54,13 +54,15 @@ RESTART_RADIUS = 1e-50
 
 
 def _radius(e) -> float:
-    return max(float(e.t.rad()) / max(1.0, abs(float(e.t.mid()))), float(e.v.rad()) / max(1.0, abs(float(e.v.mid()))))
+    """The wider relative radius of an event's time and speed balls."""
+    return max(float(b.rad()) / max(1.0, abs(float(b.mid()))) for b in (e.t, e.v))
 
 
 def restarts(sc, enc) -> list:
     """``[(i, k)]``: for each chatter event of the proof ``enc`` (``i`` its index among the
-    canonical events, ``compare.canonical_of``), ``k`` the index in ``enc.events`` of the last
-    impact before it (the restart's state).  Empty where the proof has no chatter run."""
+    canonical events, ``compare.canonical_of``), ``k`` the index in ``enc.events`` of the run's
+    latest impact whose balls are within ``RESTART_RADIUS`` (the restart's state).  Empty where the
+    proof has no chatter run, or a run has no such impact."""
     out = []
     for k, e in enumerate(enc.events):
         if e.kind != "chatter":
