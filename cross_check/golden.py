@@ -316,10 +316,10 @@ def proved_values(sc, case, first=None):
     res = {**res, "jacobian": golden_proof.midpoints(enc.jacobian), "jacobian_note": None}
     if outside_proof(res, enc, sc) is None:
         return res, enc
-    chatter = [i for i, _ in golden_chatter.restarts(sc, enc)]
-    if not chatter or outside_proof(res, enc, sc, chatter) is not None:
+    pairs = golden_chatter.restarts(sc, enc)
+    if not pairs or outside_proof(res, enc, sc, [i for i, _ in pairs]) is not None:
         return None                     # something besides the accumulation times is unpinned
-    got = golden_chatter.chatter_times(sc, res, enc)
+    got = golden_chatter.chatter_times(sc, res, enc, pairs)
     if got is None or outside_proof(got[0], enc, sc, got[1]) is not None:
         return None
     return {**got[0], "restarted": True}, enc

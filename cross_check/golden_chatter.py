@@ -91,18 +91,18 @@ def restart(sc, enc, k, upper: bool, dps: int):
         t0, v0 = ((to_mpf(b) + to_mpf(b.rad()) if upper else to_mpf(b)) for b in (e.t, e.v))
         t_end = to_mpf(t_inf) + to_mpf(t_inf.rad()) + PAST * sc.period
         log = reference.trajectory(sc, wall, v0, t_end, t0=t0, dps=dps)
-        events = [compare.Event(q.kind, q.t, q.x, q.v, q.v_before, q.count) for q in log]
-    chatter = [q for q in compare.canonical(events, sc) if q.kind == "chatter"]
+    chatter = [q for q in compare.canonical_of(log, sc) if q.kind == "chatter"]
     return chatter[0].t if chatter else None
 
 
-def chatter_times(sc, res, enc):
+def chatter_times(sc, res, enc, pairs=None):
     """``(res', indices)``: the run ``res`` (``golden.compute``'s, canonical events) with the
     time of each chatter event replaced by its restart pair's (``restart``), and the canonical
-    indices of those events; ``None`` where the proof has no chatter run, a restart finds none,
+    indices of those events; ``pairs``: ``restarts(sc, enc)`` if the caller has them.  ``None``
+    where the proof has no chatter run, a restart finds none,
     the pair disagrees beyond ``golden_self_agreement`` or the time is outside the proof's ball
     (then the full pair decides)."""
-    pairs = restarts(sc, enc)
+    pairs = restarts(sc, enc) if pairs is None else pairs
     if not pairs:
         return None
     events = list(compare.canonical(res["events"], sc))
