@@ -3,7 +3,8 @@
 dps-50 run that the proof certifies (``golden.proved_values``).
 
 Held to the dps 90 / 110 route: on a sample of the narrow corner (every input chatters three
-times a period) every written string is the one that route writes.  Seen to refuse, each time
+times a period) every written string is the one that route writes; so on random inputs of that
+scene and on the chatter starts of random scenes (slow).  Seen to refuse, each time
 falling back to the full pair: a restart pair that disagrees beyond ``golden_self_agreement``,
 an accumulation time outside the proof's ball, a restart that finds no chatter; and the
 exemption covers the accumulation times alone (a moved ``Phi`` is still refused)."""
@@ -11,13 +12,14 @@ from __future__ import annotations
 
 import mpmath
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from cross_check import golden, golden_chatter
 from cross_check.agreement import compare
 from cross_check.scenes import Case
 from reference.scene import Scene
+from tests.strategies import position_forced_scenes
 
 #: the narrow corner of issue 33 (not shipped): a gap of 0.2, a period of 12.6, e = 0.6
 NARROW = Scene(F=3, f="0.3", omega="0.5", l=0, r="0.2", wavenumber=2, restitution="0.6",
@@ -97,3 +99,25 @@ def test_a_random_chatter_input_writes_the_strings_of_the_dps_90_110_route(i, j)
     pair = golden.compute(NARROW, case, golden.GOLDEN_DPS)
     assert golden.disagreement(pair, golden.compute(NARROW, case, golden.CHECK_DPS), NARROW) is None
     assert golden.record(NARROW, proved[0]) == golden.record(NARROW, pair)
+
+
+@pytest.mark.slow
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.filter_too_much])
+@given(sc=position_forced_scenes(restitutions=("0.9", "0.6")))
+def test_a_random_scenes_chatter_start_writes_the_strings_of_the_dps_90_110_route(sc):
+    """On random scenes (every parameter and effect, restitution 0.9 or 0.6): the explicit chatter
+    start of ``hardcases``, where it is built and the restart route holds, has the record of the
+    dps-90 run (checked at 110)."""
+    from cross_check.agreement import hardcases
+
+    built, notes = {}, {}
+    with mpmath.workdps(hardcases.CONSTRUCT_DPS):
+        hardcases._chatter_case(sc, built, notes)
+    assume("chatter" in built)
+    hc = built["chatter"]
+    case = Case(hc.name, hc.x, hc.v, "decimal", hc.how, hc.kind, hc.t_event)
+    proved = golden.proved_values(sc, case)
+    assume(proved is not None and proved[0].get("restarted"))
+    pair = golden.compute(sc, case, golden.GOLDEN_DPS)
+    assert golden.disagreement(pair, golden.compute(sc, case, golden.CHECK_DPS), sc) is None
+    assert golden.record(sc, proved[0]) == golden.record(sc, pair)
