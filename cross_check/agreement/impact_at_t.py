@@ -115,21 +115,23 @@ def _crossings(scene, x, v0="0", spent=None):
     """Indices ``i`` of neighbouring starts ``(x[i], v0), (x[i + 1], v0)`` (fast, over
     ``[0, 5T/4]``; ``v0`` a decimal string, ``"0"``: from rest) whose ``j``-th event is an impact
     at the same wall, before ``T`` for one and after it for the other, with the same kinds before
-    it."""
+    it (once per such ``j``: ``_crossing_times``)."""
+    logs_ = logs(scene, x, v0, 1.25 * scene.period, spent)
+    return [i for i in range(len(x) - 1) for _ in _crossing_times(scene, logs_[i], logs_[i + 1])]
+
+
+def _crossing_times(scene, a, b):
+    """``(t_j - T, t'_j - T)`` for each ``j`` at which fast's logs ``a`` and ``b`` cross ``T``
+    (``_crossings``), in order."""
     l, r, T = scene.float("l"), scene.float("r"), scene.period
-    logs_ = logs(scene, x, v0, 1.25 * T, spent)
-    prefix, out = PREFIX_KINDS, []
-    for i in range(len(x) - 1):
-        a, b = logs_[i], logs_[i + 1]
-        for ea, eb in zip(a, b):                       # the common prefix of the two itineraries
-            if ea.kind != eb.kind or ea.kind not in prefix | {"impact"}:
-                break
-            same_wall = (abs(ea.x - r) < abs(ea.x - l)) == (abs(eb.x - r) < abs(eb.x - l))
-            if ea.kind == "impact" and same_wall and (ea.t - T) * (eb.t - T) < 0:
-                out.append(i)
-            if ea.kind not in prefix:
-                break
-    return out
+    for ea, eb in zip(a, b):                       # the common prefix of the two itineraries
+        if ea.kind != eb.kind or ea.kind not in PREFIX_KINDS | {"impact"}:
+            return
+        same_wall = (abs(ea.x - r) < abs(ea.x - l)) == (abs(eb.x - r) < abs(eb.x - l))
+        if ea.kind == "impact" and same_wall and (ea.t - T) * (eb.t - T) < 0:
+            yield ea.t - T, eb.t - T
+        if ea.kind not in PREFIX_KINDS:
+            return
 
 
 def speeds(scene, units=None) -> list:
@@ -273,15 +275,10 @@ def _fast_jump(scene, wide, narrow, v0) -> bool:
     width: a jump (an earlier event grazes), which the reference's refinement of ``wide`` would
     only find again (``_refine``: 15 runs on the frictionless far corner of issue 33, twice).
     fast only screens: a jump it sees costs a bracket, never a wrong case."""
-    x = np.array([wide[0], narrow[0], narrow[1], wide[1]])
-    T, h = scene.period, []
-    for a, b in ((0, 3), (1, 2)):
-        la, lb = logs(scene, x[[a, b]], v0, 1.25 * T)
-        pair = [(ea.t - T, eb.t - T) for ea, eb in zip(la, lb) if ea.kind == eb.kind == "impact"
-                and (ea.t - T) * (eb.t - T) < 0]
-        if not pair:
-            return False
-        h.append(pair[0])
+    ends = logs(scene, np.array([wide[0], narrow[0], narrow[1], wide[1]]), v0, 1.25 * scene.period)
+    h = [next(_crossing_times(scene, ends[a], ends[b]), None) for a, b in ((0, 3), (1, 2))]
+    if None in h:
+        return False
     slope = abs(h[0][1] - h[0][0]) / (wide[1] - wide[0])
     return JUMP_SLOPE * slope * (narrow[1] - narrow[0]) < min(abs(h[1][0]), abs(h[1][1]))
 
