@@ -55,7 +55,12 @@ A start time that is a ball (an event time) is moved to the exact ``base = t0.lo
 the start box becomes the set of states at ``base`` of the solutions through the box at
 ``t0`` (``z0 - [0, t0 - base] f``, over its own Picard box), and the flow derivative gets
 the factor ``I +- (exp(L (t0 - base)) - 1)``.  A local time ``u`` of the walk is then
-``sigma = u + (t0 - base)``, a ball.
+``sigma = u + (t0 - base)``, a ball.  A flight after an event of a validated flight gets its
+start from the event instead (``carried``, ``reference.enclosure.handoff``): the states at
+``base`` as a parallelogram in mean-value form over the last flight's set, which keeps the
+dependence on the start that the box loses (~4x an event).  Its local times then count from
+``base`` (``start``; ``lead = 0``): the next event's time is ``base + sigma``, no ``rad t0``
+added; the flight factor of Table 1 still counts from ``t0`` (``delta``).
 
 ``stack(u)`` is the derivative stack ``[x, v, a, a', a'']`` of ``reference.enclosure.motion``
 (``a``, ``a'``, ``a''`` from the equation of motion at the enclosed state), so that
@@ -162,7 +167,7 @@ class ValidatedFlight:
     """The flight with sign ``s`` from the balls ``(t0, x0, v0)`` (module docstring)."""
 
     def __init__(self, model, t0, x0, v0, s: int, *, order=None, tol_bits=None,
-                 max_steps=MAX_STEPS, full_derivative=False):
+                 max_steps=MAX_STEPS, full_derivative=False, carried=None):
         if not model.position_forcing:
             raise ValueError("ValidatedFlight: needs a scene with position forcing (wavenumber)")
         if s not in (1, -1, 0) or (s == 0 and model.friction):
@@ -185,10 +190,17 @@ class ValidatedFlight:
         self.base = t0.lower()
         self.delta = t0 - self.base
         x, v, self.shift = self._shift(x0, v0)
-        mid = [x.mid(), v.mid()]
         one, zero = arb(1), arb(0)
-        self._state = (arb(0), mid, [[one, zero], [zero, one]], [x - mid[0], v - mid[1]],
-                       [[one, zero], [zero, one]])
+        start = None if carried is None else carried.start(self.field, self.base, self.shift,
+                                                             (x, v))
+        self.handed = start is not None
+        if start is None:
+            mid = [x.mid(), v.mid()]
+            start = (mid, [[one, zero], [zero, one]], [x - mid[0], v - mid[1]])
+        #: the time the walk's local times count from: the exact ``base`` for a set handed
+        #: through an event (``reference.enclosure.handoff``), else the start ball ``t0``
+        self.start, self.lead = (self.base, arb(0)) if self.handed else (t0, self.delta)
+        self._state = (arb(0),) + start + ([[one, zero], [zero, one]],)
         self.steps, self._starts = [], []
         self._cap = self._step_cap()
         self._shrink = SHRINK
@@ -340,9 +352,10 @@ class ValidatedFlight:
         return centre, mat_mul(V, step.A), V
 
     # -- queries -------------------------------------------------------------------------
-    def _pieces(self, u):
-        """``(step, tau)`` for the parts of the local time ``u`` (``sigma = u + delta``)."""
-        sigma = u + self.delta
+    def _pieces(self, u, lead=None):
+        """``(step, tau)`` for the parts of the local time ``u`` (``sigma = u + lead``; the
+        walk's ``lead`` by default, ``delta`` for the flight factor from ``t0``)."""
+        sigma = u + (self.lead if lead is None else lead)
         lo, hi = sigma.lower(), sigma.upper()
         if lo < 0:          # a ball [0, b] reaches below 0 by the rounding of its radius only
             if lo < -(hi - lo) * arb(2) ** -16:
@@ -381,7 +394,7 @@ class ValidatedFlight:
     def derivative(self, u):
         """The flight factor ``d(x, v)(t0 + u) / d(x0, v0)`` at a fixed start time (Table 1)."""
         out = None
-        for st, tau in self._pieces(u):
+        for st, tau in self._pieces(u, self.delta):
             _, _, V = self._at(st, tau)
             Dm = mat_mul(mat_mul(V, st.D), self.shift)
             out = Dm if out is None else [[a.union(b) for a, b in zip(r, q)] for r, q in zip(out, Dm)]

@@ -17,7 +17,11 @@ the walk proves it for every start state of a box, with the semantics of
    proves that the force pulls it away beyond friction);
 4. a chatter run is followed bounce by bounce as long as the point integrator did, then its
    tail is bounded (:func:`chatter_tail`) and wall contact follows;
-5. after the last event the state at ``t_end`` is the motion's closed form at ``t_end``.
+5. after the last event the state at ``t_end`` is the motion's closed form at ``t_end``;
+6. under position forcing a flight after an impact or a turn starts from the last flight's set
+   handed through the event (``reference.enclosure.handoff``) at the exact ``base`` below the
+   event's time ball; the next event must then lie beyond that ball (``floor`` in :meth:`fly`),
+   where the last event's own zero lies.
 
 Any certificate that fails raises :class:`~reference.enclosure.certify.Unproved` with the
 reason: a grazing impact, a tangency, a stick-slip boundary, an event at ``t = kT``.
@@ -26,7 +30,7 @@ from __future__ import annotations
 
 from flint import arb
 
-from reference.enclosure import certify, lohner, motion
+from reference.enclosure import certify, handoff, lohner, motion
 from reference.enclosure.balls import from_mpf, span
 from reference.enclosure.certify import Unproved
 from reference.integrator import Event, EventLog
@@ -101,6 +105,7 @@ class Walk:
         self.fallback = None          # the last impact of a chatter run with a bounded tail
         self.flights = {}             # validated flights by id of their start time (Table 1)
         self.ahead = None             # (side, index) of the chatter event ending the current run
+        self.handoff = None           # the last event's set for the next flight (handoff)
 
     # -- point events -------------------------------------------------------------------
     def peek(self):
@@ -199,16 +204,18 @@ class Walk:
         m = self.m
         if not m.position_forcing:
             return motion.Flight(m, self.t, self.x, self.v, self.s)
+        carried = self.handoff if self.handoff is not None and self.handoff.T is self.t else None
         flight = lohner.ValidatedFlight(m, self.t, self.x, self.v, self.s,
-                                        full_derivative=self.full_derivative)
+                                        full_derivative=self.full_derivative, carried=carried)
         self.flights[id(self.t)] = flight
         return flight
 
     def fly(self):
         m = self.m
         flight = self.new_flight()
+        start = getattr(flight, "start", self.t)     # a handed-off set starts at its base
         fns = self.functions()
-        h_end = self.t_end - self.t
+        h_end = self.t_end - start
         ev = self.peek()
         what = f"flight from t = {self.t.mid().str(15)}"
         if ev is None:
@@ -227,11 +234,14 @@ class Walk:
             raise Unproved(f"a {ev.kind} at t = {mpstr(ev.t)} at x = {mpstr(ev.x)} reached from "
                            f"flight (a grazing touch, a turning point at a wall, or an impact at "
                            f"the wall the flight moves away from)")
-        guess = (from_mpf(ev.t) - self.t.mid()).mid()
-        if not guess > 0:           # e.g. a turn logged at the instant a plastic impact leaves
+        guess = (from_mpf(ev.t) - start.mid()).mid()
+        # a handed set starts at its base, before the last event's time ball: the next event
+        # must lie after the whole ball (inside it is the last event's own zero)
+        floor = (self.t - start).upper() if start is not self.t else arb(0)
+        if not guess > floor:       # e.g. a turn logged at the instant a plastic impact leaves
             raise Unproved(f"{what}: the point integrator's {ev.kind} at t = {mpstr(ev.t)} is not after "
                            f"the flight's start")
-        wide, tight = certify.root(flight, fired, guess, arb(0), what)
+        wide, tight = certify.root(flight, fired, guess, floor, what)
         if not tight < h_end:
             raise Unproved(f"{what}: the {ev.kind} at t = {mpstr(ev.t)} may be at t_end "
                            f"(an event at t = kT)")
@@ -239,8 +249,10 @@ class Walk:
             hi = wide.lower() if fn is fired else tight.upper()
             self.pieces += certify.exclude(flight, fn, arb(0), hi, what)
         stack = flight.stack(tight)
-        self.t, self.x, self.v = self.t + tight, stack[0], stack[1]
+        self.t, self.x, self.v = start + tight, stack[0], stack[1]
         self.i += 1
+        if m.position_forcing:
+            self.handoff = handoff.Handoff(flight, fired, tight, ev.kind, side, self.t)
         if ev.kind == "impact":
             return self.impact_from_flight(side)
         return self.velocity_zero(ev.kind)
