@@ -381,3 +381,41 @@ def test_multipliers_over_the_box_where_they_decide_the_type_and_over_K_where_no
                         else decide(*a))
     again = prove_periodic(sc, x, v, tight=False)
     assert len(calls) == 2 and sum(w is not None for w in walks) == 2 and again.kind == kind    # the walk over K too
+
+
+@pytest.mark.parametrize("radius, refused", [(1.2, True), (0.8, False)])
+def test_a_centre_whose_jacobian_is_too_wide_for_any_krawczyk_box_is_refused_at_once(radius, refused, monkeypatch):
+    """``P' = diag(3, 3) +- radius`` entrywise: ``C = (mid P' - I)^-1 = I/2``, so ``I - C (P'(B) -
+    I)`` has row radii ``2 radius / 2``: at 1.2 no box contracts (``orbits._spread`` 1.2 >= 1), and the rung
+    is refused at its first walk, not Newton-stepped (issue 33: 50 CPU s of a wandering Newton on
+    a 96-bit ``P'`` 0.5 wide) nor declared divergent (which would stop the ladder); at 0.8 (spread
+    0.8) Newton goes on to convergence."""
+    from reference.enclosure.maps import MapEnclosure
+    sc = scenes.scene("fig:xpotno")
+    calls = []
+
+    def fake(scene, x, v, **kw):
+        calls.append((x, v))
+        d = arb(2) ** -40 if len(calls) < 3 else arb(0)
+        wide = [[3 + arb(0, radius), arb(0, radius)], [arb(0, radius), 3 + arb(0, radius)]]
+        return MapEnclosure(True, phi=(x + d, v + d), jacobian=wide, prec=64)
+
+    monkeypatch.setattr(orbits, "enclose_map", fake)
+    with workprec(64):
+        z0 = [arb("0.1").mid(), arb("0.2").mid()]
+        if refused:
+            with pytest.raises(orbits._TooWide, match="too wide for a Krawczyk box at 64 bits"):
+                orbits._newton(sc, z0, 1, Fraction(0), 64, None, [])
+            proof = prove_periodic(sc, "0.1", "0.2", periods=1, phase=Fraction(0), prec=64, points=[])
+            assert not proof.proved and not proof.diverged and "too wide" in proof.reason
+            assert len(calls) == 2                  # one walk each: no Newton step was taken
+        else:
+            z, enc, ahead = orbits._newton(sc, z0, 1, Fraction(0), 64, None, [])
+            assert enc.proved and len(calls) == 3
+
+
+def test_the_jacobian_spread_is_row_sums_of_abs_inverse_times_radii():
+    J = [[3 + arb(0, 0.25), arb(0, 0.5)], [arb(0, 0.1), 3 + arb(0, 0.1)]]
+    M = [[arb(2), arb(0)], [arb(0), arb(4)]]           # C = diag(1/2, 1/4)
+    spread = float(orbits._spread(J, M).mid())        # radii are stored rounded up (30 bits)
+    assert max(0.5 * 0.75, 0.25 * 0.2) <= spread <= 0.375 * (1 + 1e-8)

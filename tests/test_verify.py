@@ -288,6 +288,30 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     assert tasks._proof("o", sc, p, 1, None)["diverged"] and calls == [64]
 
 
+@pytest.mark.parametrize("spread, tried", [(6e9, [64, 192, 320]),     # 9e4 at 96, 1.4 at 128
+                                            (1e4, [64, 96, 128, 192, 320]),   # 0.15 at 96: tried
+                                            (3e40, [64, 320])])          # no rung holds; 320 is tried
+def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spread, tried, monkeypatch):
+    """``tasks._proof``: a rung that found ``P'`` too wide for any Krawczyk box (``spread``, ``>=
+    1``) rules out the rungs where ``spread 2^-((prec - 64) / 2)`` is still 1 or more
+    (``_may_hold``), and tries the others; the last rung is always tried."""
+    sc = scenes.scene("fig:xpotno")
+    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0})()
+    monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
+    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a: None)
+    calls = []
+
+    def fake(label, sc, x, v, k, prec, radius, phase, points, tight):
+        calls.append(prec)
+        rec = {"orbit": label, "periods": k, "proved": False, "reason": "test"}
+        return {**rec, "spread": spread} if prec == 64 else rec
+
+    monkeypatch.setattr(tasks, "prove", fake)
+    assert tasks._proof("o", sc, p, 1, None)["proved"] is False and calls == tried
+    assert tasks._may_hold(128, 2.0 ** -64, 0, (64, 6e9)) is False
+    assert tasks._may_hold(192, 2.0 ** -96, 0, (64, 6e9)) is True
+
+
 def test_the_proofs_go_to_the_other_orbits_before_the_parabolic_ones():
     """``tasks._attempted``: ``max_proofs`` orbits in order, those fast finds parabolic last."""
     kinds = ["parabolic", "saddle", "parabolic", "centre", "saddle"]

@@ -218,13 +218,22 @@ RESIDUAL_SLACK = 4.0
 WHOLE_LOSS_PREC = 128
 
 
-def _may_hold(prec, radius, lost) -> bool:
+def _may_hold(prec, radius, lost, wide=None) -> bool:
     """Whether a rung of ``PROOF_LADDER`` may hold after a lower one lost ``lost`` bits: its
     residual ``~2^(lost - prec)`` must be within ``RESIDUAL_SLACK`` times the ``2 r`` that the
     Krawczyk test allows (``r`` the rung's box radius, ``2^-(prec // 3)`` by default).  Scene D
     (issue 33): its period-3 orbits lose 53 bits at 64, so the rung of 96 (box 2^-48) is
-    skipped and 128 proves them, as it did after 96 failed."""
+    skipped and 128 proves them, as it did after 96 failed.
+
+    ``wide = (bits, spread)``: a lower rung of ``bits`` found ``P'`` too wide for any Krawczyk
+    box (``reference.enclosure.orbits._spread``, ``spread >= 1``).  The flights carry ``P'`` to
+    half the precision, so the spread at ``prec`` is ~``spread 2^-((prec - bits) / 2)``, and a
+    rung where that is still 1 or more is skipped.  Issue 33, period-3 orbits of the
+    frictionless corner (51 events): spreads 6e9, 6.5e4 and 1.2 at 64, 96 and 128 bits (the
+    model says 9e4 and 1.4 from 64), and 192 proves; each failed rung was a whole walk."""
     r = 2.0 ** -(prec // 3) if radius is None else radius
+    if wide is not None and wide[1] * 2.0 ** (-(prec - wide[0]) / 2) >= 1:
+        return False
     return 2.0 ** (lost - prec) <= RESIDUAL_SLACK * 2 * r
 
 
@@ -266,14 +275,16 @@ def _proof(label, sc, p, period, seg) -> dict:
         phase, x, v = _section(sc, p.x, p.v, period)
         guide = point_log(sc, x, v, period, phase, PROOF_LADDER[0][0])
         ladder = PROOF_LADDER[:1] if p.kind == "parabolic" else PROOF_LADDER
-        lost = 0.0
+        lost, wide = 0.0, None
         for prec, radius in ladder:
-            if not _may_hold(prec, radius, lost) and (prec, radius) != ladder[-1]:
+            if not _may_hold(prec, radius, lost, wide) and (prec, radius) != ladder[-1]:
                 continue
             rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase, points=guide,
                         tight=False)
             if rec["proved"] or rec.get("diverged"):       # more bits take Newton's same path
                 return rec
+            if rec.get("spread"):
+                wide = (prec, rec["spread"])
             if rec.get("residual"):
                 lost = max(lost, math.log2(rec["residual"]) + prec)
                 if prec >= WHOLE_LOSS_PREC and rec["residual"] >= 1:

@@ -26,7 +26,10 @@ class OrbitProof:
     orbit period.  Else ``reason``, and ``residual`` where the Krawczyk test failed on the
     residual alone (the radius of ``C (P(z) - z)``, wider than the box: at ``prec`` bits the
     walk lost ``~log2(residual) + prec`` bits, which a caller may use to pick its next precision),
-    and ``diverged`` where Newton diverged from the seed (no precision helps).
+    ``spread`` where ``P'`` at the Newton centre was too wide for any Krawczyk box
+    (``orbits._spread``: it shrinks ~``2^-(bits / 2)`` with more bits, the flights' derivative
+    being carried to half the precision), and ``diverged`` where Newton diverged from the seed
+    (no precision helps).
     """
 
     proved: bool
@@ -44,6 +47,7 @@ class OrbitProof:
     seconds: float = 0.0
     phase: object = 0
     residual: float = 0.0
+    spread: float = 0.0
     #: Newton diverged from the seed (``orbits.DIVERGE_GROWTH``): more bits take the same path
     diverged: bool = False
 

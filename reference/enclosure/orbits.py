@@ -61,6 +61,31 @@ class _Diverged(Exception):
     """``_newton``'s iteration diverges (``DIVERGE_GROWTH``)."""
 
 
+class _TooWide(Exception):
+    """``P'`` at a Newton centre is too wide for a Krawczyk box at this precision
+    (:func:`_spread`): the next rung's bits narrow it."""
+
+    def __init__(self, spread: float, message: str):
+        super().__init__(message)
+        self.spread = spread
+
+
+def _spread(J, M):
+    """``max_i sum_j (|C| rad P')_ij`` with ``C = (mid (P' - I))^-1``, ``M = mid (P' - I)``.
+
+    Krawczyk's ``I - C (P'(B) - I)`` has entrywise radii at least ``|C| rad P'(B)``, and
+    ``P'(B)`` over a box holds ``P'`` at its centre: at a spread of 1 or more no box contracts,
+    whatever Newton does.  Issue 33: with the walk's set handed through events
+    (``reference.enclosure.handoff``) a 51-event period-3 walk of the frictionless scene
+    ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2`` proves at 96 bits, where it failed before, but
+    its ``P'`` (the flights' derivative to half the precision, wrapped over 51 factors) is
+    +-0.5 wide; Newton on its midpoint wandered for 50 CPU s and was declared divergent, so the
+    192-bit rung that proves the orbit was never tried."""
+    C = _inverse(M)
+    return max(sum(abs(C[i][k]) * J[k][j].rad() for k in range(2) for j in range(2))
+               for i in range(2))
+
+
 def _mat_sub_identity(J):
     return [[J[0][0] - 1, J[0][1]], [J[1][0], J[1][1] - 1]]
 
@@ -86,7 +111,8 @@ def _newton(scene, z, periods, phase, prec, small=None, points=None):
     singular).  The loop ends once the step is at most ``small`` or within the enclosure's own
     noise: ``_krawczyk`` then takes it in mean-value form over the box around ``z`` (issue 33:
     the enclosure at ``z - s`` only confirmed convergence).  Raises ``_Diverged`` where the
-    steps, once small, grow by ``DIVERGE_GROWTH``: the far iterate is not walked."""
+    steps, once small, grow by ``DIVERGE_GROWTH``: the far iterate is not walked; ``_TooWide``
+    where ``P'`` is too wide for any Krawczyk box at ``prec`` (:func:`_spread`)."""
     last = None
     for _ in range(NEWTON_STEPS):
         enc = enclose_map(scene, z[0], z[1], periods=periods, phase=phase, prec=prec,
@@ -96,6 +122,12 @@ def _newton(scene, z, periods, phase, prec, small=None, points=None):
         M = _mid(_mat_sub_identity(enc.jacobian))
         if (M[0][0] * M[1][1] - M[0][1] * M[1][0]).is_zero():
             return z, enc, None
+        spread = _spread(enc.jacobian, M)
+        if not spread < 1:
+            spread = float(spread.upper())
+            raise _TooWide(spread, f"P' at the centre is too wide for a Krawczyk box at {prec} "
+                                   f"bits: |(P' - I)^-1| rad P' = {spread:.2g} >= 1 (more bits "
+                                   f"narrow it)")
         step = _matvec(_inverse(M), [enc.phi[0].mid() - z[0], enc.phi[1].mid() - z[1]])
         new = [(z[0] - step[0]).mid(), (z[1] - step[1]).mid()]
         if (new == z or all(abs(step[i]) <= 4 * enc.phi[i].rad() for i in range(2))
@@ -166,6 +198,9 @@ def _polished(scene, seed, r, periods, phase, prec, points, tight=True):
         z, enc, ahead = _newton(scene, seed, periods, phase, prec, r / STEP_SHARE, points)
     except _Diverged as exc:
         return OrbitProof(False, periods, reason=str(exc), prec=prec, radius=float(r), diverged=True)
+    except _TooWide as exc:
+        return OrbitProof(False, periods, reason=str(exc), prec=prec, radius=float(r),
+                          spread=exc.spread)
     return _krawczyk(scene, z, r, periods, phase, prec, enc, ahead, points, tight)
 
 
