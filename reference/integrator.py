@@ -124,7 +124,7 @@ class _Machine:
         """``v = 0`` at a wall: contact if the force holds it there, else leave at once."""
         m = self.m
         self.x, self.v = m.wall(side), mpmath.mpf(0)
-        release = m.forcing.first_above(self.t, self.x, -side, m.f)
+        release = m.forcing.first_above(self.t, self.x, -side, m.f, m.noise_a)
         if release == self.t:
             if arrival is not None and arrival != "contact-only":
                 self.emit(arrival, v_before)
@@ -174,8 +174,8 @@ class _Machine:
     def slip_time(self):
         """First time >= t at which sticking at x ends, and the new sign (or None)."""
         m = self.m
-        up = m.forcing.first_above(self.t, self.x, 1, m.f)
-        down = m.forcing.first_above(self.t, self.x, -1, m.f)
+        up = m.forcing.first_above(self.t, self.x, 1, m.f, m.noise_a)
+        down = m.forcing.first_above(self.t, self.x, -1, m.f, m.noise_a)
         if up is None and down is None:
             return None
         if down is None or (up is not None and up <= down):
@@ -193,7 +193,8 @@ class _Machine:
             t_next, kind = self.slip_time(), "slip"
             sign = getattr(self, "_slip_sign", 0)
         else:
-            t_next, kind = self.m.forcing.first_above(self.t, self.x, -self.s, self.m.f), "release"
+            t_next, kind = self.m.forcing.first_above(self.t, self.x, -self.s, self.m.f,
+                                                      self.m.noise_a), "release"
             sign = -self.s
         if t_next is None or t_next > self.t_end:
             self.t = self.t_end

@@ -11,6 +11,7 @@ import pytest
 from mpmath import mpf
 
 import reference
+from cross_check.tolerances import tol
 from reference import Scene
 from tests.strategies import REFERENCE_SCENES
 from tests.test_reference_properties import naive_flight
@@ -208,3 +209,42 @@ def test_elastic_micro_bouncing_is_not_mistaken_for_chatter():
     assert set(kinds(log)) == {"impact"} and len(log) > 100
     with mpmath.workdps(60):
         check_log_segments(scene, log, samples=4)
+
+
+#: issue 33, an unseen position-forced scene of ``verify``: its constructed stick-slip boundary
+#: (``v`` reaches 0 where ``s A = -f``) failed at 50 digits, "no progress in time after 50
+#: transitions"; at 90 and 110 digits it is a turn, a stick and a slip
+UNSEEN = Scene(F="0.457", f="0.16", omega="6.997", l="-0.70", r="1.37", wavenumber="0.2898",
+               damping="0.010", restitution="0.9")
+UNSEEN_BOUNDARY = ("0.253428222203296584155032292094", "0.161129288951149941068574882653")
+
+
+def test_a_stick_entered_within_the_flights_noise_of_the_slip_region_is_not_left_at_once():
+    """The stick is entered 7.8e-59 inside the slip region, where the force is leaving it: below
+    the flight's ``noise_a`` (5e-58), at which its velocity zero is located.  It is the boundary,
+    so the stick lasts until the force comes back (``first_above``'s ``force_noise``): the 50-digit
+    run gives the 90-digit run's itinerary, turn and slip times and end state (``ref_map_dps50``).
+    The stick's time is not compared: between the turn and it lies a flight ~1e-30 long whose
+    velocity has a double zero (``s a`` ~ 0 at the boundary), located to ~sqrt of the noise."""
+    T = 2 * mpmath.pi / UNSEEN.mpf("omega")
+    logs = [reference.trajectory(UNSEEN, *UNSEEN_BOUNDARY, T, dps=dps) for dps in (50, 90)]
+    assert kinds(logs[0]) == kinds(logs[1]) == ["turn", "stick", "slip"]
+    atol = tol("ref_map_dps50").atol
+    assert all(abs(logs[0][i].t - logs[1][i].t) < atol for i in (0, 2))
+    assert abs(logs[0].x_end - logs[1].x_end) < atol and abs(logs[0].v_end - logs[1].v_end) < atol
+
+
+@pytest.mark.parametrize("inside, noise, leaves", [(mpf("1e-50"), mpf("1e-40"), False),
+                                                   (mpf("1e-50"), 0, True),
+                                                   (mpf("1e-30"), mpf("1e-40"), True)])
+def test_first_above_counts_a_phase_within_the_force_noise_as_on_the_boundary(inside, noise, leaves):
+    """``sigma A`` falling through the level ``f`` at ``phi = alpha``: a time ``inside`` (in phase)
+    before it, where ``sigma A`` is still above ``f`` by ``~inside |b| sin alpha``, is in the slip
+    region (leave at once) unless that excess is within ``force_noise`` -- then it is the boundary
+    (stay until the force rises again)."""
+    with mpmath.workdps(60):
+        forcing = importlib.import_module("reference.flows").CosineForcing(mpf(1), mpf(1))
+        level = mpf("0.1")
+        t = mpmath.acos(level) - inside          # phase alpha - inside, w = 1, b = F = 1
+        got = forcing.first_above(t, mpf(0), 1, level, noise)
+        assert (got == t) is leaves and (leaves or got > t + 1)
