@@ -328,3 +328,33 @@ def test_a_reason_with_bars_stays_in_its_cell_of_the_orbit_table():
     head, _, line = document._orbit_section([row])
     cells = lambda text: len(re.findall(r"(?<!\\)\|", text))      # noqa: E731
     assert cells(line) == cells(head) == 10 and "\\|C (P(z) - z)\\|" in line
+
+
+def test_a_proofs_section_lies_in_flight_not_in_a_rest():
+    """``shooting.quiet_middle``: the longest stretch that is not a rest (after a stick, contact or
+    chatter; from the start if the motion starts at rest until a slip or release), the longest
+    of all only if every stretch rests.  On an unseen scene's period-1 orbits that stick (issue
+    33), the longest stretch is the stick, where ``v = 0`` and no box of starts has one
+    itinerary; ``tasks._section`` now puts the section in flight."""
+    from cross_check.agreement import compare
+    from cross_check.dynamics import periodic
+    from reference.enclosure.shooting import quiet_middle, rest_stretches
+    from reference.scene import Scene
+
+    times = [0.0, 1.0, 5.0, 6.0, 7.0]
+    assert rest_stretches(["impact", "contact", "release"], False) == [False, False, True, False]
+    assert quiet_middle(times, rest_stretches(["impact", "contact", "release"], False)) == 3.0
+    assert quiet_middle(times, rest_stretches(["contact", "release", "impact"], False)) == 6.5
+    assert rest_stretches(["slip"], True) == [True, False] and rest_stretches([], True) == [True]
+    assert quiet_middle([0.0, 2.0], [True]) == 1.0                 # every stretch rests
+    sc = Scene(F="1.072", f="0.0075", omega="1.332", l="0.21", r="3.56", wavenumber="0.8216",
+               restitution="0.6")
+    vmax = tasks.velocity_range(sc)
+    nodes = [p for p in periodic.find_periodic_points(sc, period=1, v_range=(-vmax, vmax), grid=(16, 16),
+                                                     search_steps=periodic.SEARCH_STEPS) if p.kind == "node"]
+    assert nodes
+    for p in nodes:
+        kinds = {e.kind for evs in compare.fast_events(sc, p.points[:, 0], p.points[:, 1]) for e in evs}
+        assert "stick" in kinds
+        _, x, v = tasks._section(sc, p.x, p.v, 1)
+        assert v != 0 and sc.float("l") < x < sc.float("r")

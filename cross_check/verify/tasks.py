@@ -182,18 +182,19 @@ PROOF_LADDER = ((64, 2.0 ** -32), (96, 2.0 ** -48), (128, 2.0 ** -64), (192, 2.0
 
 def _section(sc, x, v, period):
     """``(phase, x, v)``: ``reference.enclosure.shooting.section``'s choice of the proof's section
-    -- the middle of the longest quiet stretch of the orbit, on the grid of ``T / SECTION_GRID``
+    -- the middle of the longest quiet stretch of flight of the orbit, on the grid of ``T / SECTION_GRID``
     -- from fast's events and flow (the proof polishes the state; the section only has to lie
     away from the events), instead of two runs of the point integrator."""
     import fast
     from fractions import Fraction
 
-    from reference.enclosure.shooting import SECTION_GRID
+    from reference.enclosure.shooting import SECTION_GRID, quiet_middle, rest_stretches
 
     T = sc.period
     log = fast.events(sc, np.array([x]), np.array([v]), period * T)
-    times = [0.0] + [float(t) for k, t in zip(log.kind.reshape(-1), log.t.reshape(-1)) if k >= 0] + [period * T]
-    _, mid = max((b - a, (a + b) / 2) for a, b in zip(times, times[1:]))
+    got = [(int(k), float(t)) for k, t in zip(log.kind.reshape(-1), log.t.reshape(-1)) if k >= 0]
+    times = [0.0] + [t for _, t in got] + [period * T]
+    mid = quiet_middle(times, rest_stretches([fast.KINDS[k] for k, _ in got], v == 0))
     ticks = int(math.floor(SECTION_GRID * mid / T))
     if ticks == 0:
         return Fraction(0), x, v

@@ -231,9 +231,33 @@ class Shooting:
         return True
 
 
+#: event kinds after which the motion rests (sticking, wall contact) until the next event
+RESTS = frozenset({"stick", "contact", "chatter"})
+
+
+def rest_stretches(kinds, at_rest) -> list:
+    """For the stretches between ``0``, the events of ``kinds`` and the end: whether each is a
+    rest -- after a kind of ``RESTS``, or from the start if the motion starts at rest
+    (``at_rest``) and its first event ends a rest (a slip or a release; none: it rests)."""
+    first = at_rest and (not kinds or kinds[0] in ("slip", "release"))
+    return [first] + [k in RESTS for k in kinds]
+
+
+def quiet_middle(times, rests):
+    """The middle of the longest stretch between consecutive ``times`` that is not a rest
+    (``rests``, :func:`rest_stretches`), or of the longest stretch if all are.  A section in a
+    rest puts the fixed point at ``v = 0``, where no box of starts has one itinerary (half of it
+    starts moving the other way): issue 33, an unseen scene's four period-1 orbits that stick
+    (``F=1.072 f=0.0075 omega=1.332 l=0.21 r=3.56 wavenumber=0.8216 restitution=0.6``)
+    failed every rung there, "the start's velocity encloses 0", 7 CPU s each."""
+    spans = [(b - a, (a + b) / 2) for a, b in zip(times, times[1:])]
+    moving = [sp for sp, rest in zip(spans, rests) if not rest]
+    return max(moving or spans)[1]
+
+
 def section(scene, x, v, periods, prec):
     """``(phase, x, v)``: the section ``t = phase T`` (a multiple of ``T / SECTION_GRID``) in
-    the middle of the longest quiet stretch of the orbit through ``(x, v)`` at ``t = 0`` over
+    the middle of the longest quiet stretch (of flight: :func:`quiet_middle`) of the orbit through ``(x, v)`` at ``t = 0`` over
     ``periods`` periods, and the state there.  The stretch may lie in a later period ``j``: the
     state is then the orbit's at ``(j + phase) T``, i.e. the state at ``phase T`` of the orbit
     shifted by ``j T`` (the forcing has period ``T``), whose events are away from the section.
@@ -246,7 +270,7 @@ def section(scene, x, v, periods, prec):
         v = to_mpf(from_number(v))
         log = reference.trajectory(scene, x, v, periods * T, dps=dps)
         times = [mpmath.mpf(0)] + [e.t for e in log] + [periods * T]
-        _, mid = max((b - a, (a + b) / 2) for a, b in zip(times, times[1:]))
+        mid = quiet_middle(times, rest_stretches([e.kind for e in log], v == 0))
         ticks = int(mpmath.floor(SECTION_GRID * mid / T))
         phase = Fraction(ticks % SECTION_GRID, SECTION_GRID)
         if ticks == 0:
