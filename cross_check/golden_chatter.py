@@ -47,9 +47,12 @@ PROVENANCE = ("an input with \"chatter_dps\": [60, 80] has the time of each chat
 PAST = mpmath.mpf(2) ** -20
 
 
-#: the widest (relative) balls of time and speed a restart may start from: the walk's balls grow
-#: ~17-fold a bounce along a chatter run (narrow corner: 1e-54 at the run's first impact, 1e-32
-#: at its last), and the restart's start error reaches ``t_inf`` times ~``1 / (1 - rho)``
+#: the widest (relative) balls of time and speed a restart may start from: the restart's start
+#: error reaches ``t_inf`` times ~``1 / (1 - rho)``.  The walk's balls grew ~17-fold a bounce
+#: along a chatter run (narrow corner: 1e-54 at the run's first impact, 1e-32 at its last) until
+#: its sets were handed through the events (``reference.enclosure.handoff``): they now stay
+#: within ~1e-52, so the restart is at the run's last bounce; a run whose first impact is near
+#: grazing (a speed of ~6e-16: balls of ~2e-42 from the start) still takes the dps 90 / 110 pair
 RESTART_RADIUS = 1e-50
 
 
