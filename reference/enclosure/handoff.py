@@ -35,7 +35,7 @@ of the convex ``R``; the mean value theorem, componentwise, then puts
 and ``z_b(r0)`` is the centre's own event, located by an interval Newton step on its
 polynomial, jumped, and run back to ``base`` by the next flight's Taylor series with a
 Lagrange remainder over a Picard box.  The parallelogram is re-framed as a Lohner step does
-(``lohner.ValidatedFlight._next``) and starts the next flight at the exact ``base``: the next
+(``lohner.reframe``) and starts the next flight at the exact ``base``: the next
 event's time is ``base + sigma`` (no ``rad T`` added), and the speed's cancellation survives.
 
 Every enclosure is a ball statement for every start of the set, so the hand-off is sound for a
@@ -46,7 +46,7 @@ from __future__ import annotations
 
 from flint import arb
 
-from reference.enclosure.lohner import ValidatedFlight, _interval, _mat_vec, picard_box
+from reference.enclosure.lohner import _interval, picard_box, reframe
 from reference.jacobian import mat_mul
 
 #: The order of the Taylor series that runs the centre's state back from its event to
@@ -63,7 +63,7 @@ class Handoff:
     absolute time ``T``; :meth:`start` gives the next flight's set at its ``base``."""
 
     def __init__(self, flight, fn, u, kind, side, T):
-        self.flight, self.fn, self.kind, self.side, self.T = flight, fn, kind, side, T
+        self.flight, self.fn, self.kind, self.side, self.T, self.u = flight, fn, kind, side, T, u
         pieces = flight._pieces(u)
         self.ok = len(pieces) == 1 and kind in ("impact", "turn")
         if self.ok:
@@ -78,9 +78,8 @@ class Handoff:
         fl, st, j = self.flight, self.step, self.fn.offset
         R = st.R
         r0 = [b.mid() for b in R]
-        centre, M, _ = fl._at(st, self.tau)
-        before = fl.field.stack(st.t + self.tau, *[centre[i] + M[i][0] * R[0] + M[i][1] * R[1]
-                                                   for i in range(2)])
+        _, M, _ = fl._at(st, self.tau)
+        before = fl.stack(self.u)           # the set's stack over the event's ball
         if before[j + 1].contains(0):
             return None
         after = self._jump(before[:2])
@@ -90,7 +89,7 @@ class Handoff:
         c = self._centre(post, base, r0)
         if c is None:
             return None
-        carried = _reframe(c, G, [R[k] - r0[k] for k in range(2)])
+        carried = reframe(c, G, [R[k] - r0[k] for k in range(2)])
         return carried if smaller(carried, box) else None
 
     def _jump(self, z):
@@ -164,17 +163,6 @@ def _back(post, t, z, base):
     v = (sum(((k + 1) * xs[k + 1] * h ** k for k in range(n + 1)), arb(0))
          + (n + 2) * bx[n + 2] * h ** (n + 1))
     return [x, v]
-
-
-def _reframe(c, G, R):
-    """``{c + G r : r in R}`` as a Lohner set ``(mid, A, R')`` (``lohner.ValidatedFlight``)."""
-    mid = [c[0].mid(), c[1].mid()]
-    A = ValidatedFlight._frame(G, R)
-    det = A[0][0] * A[1][1] - A[0][1] * A[1][0]
-    Ainv = [[A[1][1] / det, -A[0][1] / det], [-A[1][0] / det, A[0][0] / det]]
-    R2 = [a + b for a, b in zip(_mat_vec(mat_mul(Ainv, G), R),
-                                _mat_vec(Ainv, [c[i] - mid[i] for i in range(2)]))]
-    return mid, A, R2
 
 
 def smaller(carried, box):

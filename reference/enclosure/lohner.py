@@ -315,15 +315,8 @@ class ValidatedFlight:
 
     def _next(self, step):
         """The set, frame and flow derivative at the end of ``step`` (the Lohner QR step)."""
-        h = step.h
-        centre, M, V = self._at(step, h)
-        new_mid = [centre[0].mid(), centre[1].mid()]
-        A = self._frame(M, step.R)
-        det = A[0][0] * A[1][1] - A[0][1] * A[1][0]
-        Ainv = [[A[1][1] / det, -A[0][1] / det], [-A[1][0] / det, A[0][0] / det]]
-        R = [a + b for a, b in zip(_mat_vec(mat_mul(Ainv, M), step.R),
-                                   _mat_vec(Ainv, [centre[i] - new_mid[i] for i in range(2)]))]
-        return step.end, new_mid, A, R, mat_mul(V, step.D)
+        centre, M, V = self._at(step, step.h)
+        return (step.end,) + reframe(centre, M, step.R) + (mat_mul(V, step.D),)
 
     @staticmethod
     def _frame(M, R):
@@ -399,6 +392,20 @@ class ValidatedFlight:
             Dm = mat_mul(mat_mul(V, st.D), self.shift)
             out = Dm if out is None else [[a.union(b) for a, b in zip(r, q)] for r, q in zip(out, Dm)]
         return out
+
+
+def reframe(centre, M, R):
+    """``{centre + M r : r in R}`` (balls ``centre``, ball matrix ``M``) as a Lohner set
+    ``(mid, A, R')``: ``mid`` the exact midpoint, ``A`` the QR frame of ``mid M``
+    (``ValidatedFlight._frame``), ``R' = (A^-1 M) R + A^-1 (centre - mid)``; a step's end
+    (``ValidatedFlight._next``) and a set handed through an event (``handoff``)."""
+    mid = [centre[0].mid(), centre[1].mid()]
+    A = ValidatedFlight._frame(M, R)
+    det = A[0][0] * A[1][1] - A[0][1] * A[1][0]
+    Ainv = [[A[1][1] / det, -A[0][1] / det], [-A[1][0] / det, A[0][0] / det]]
+    R2 = [a + b for a, b in zip(_mat_vec(mat_mul(Ainv, M), R),
+                                _mat_vec(Ainv, [centre[i] - mid[i] for i in range(2)]))]
+    return mid, A, R2
 
 
 class FlightFactors:
