@@ -257,8 +257,8 @@ def quiet_middle(times, rests):
 
 def section(scene, x, v, periods, prec):
     """``(phase, x, v)``: the section ``t = phase T`` (a multiple of ``T / SECTION_GRID``) in
-    the middle of the longest quiet stretch (of flight: :func:`quiet_middle`) of the orbit through ``(x, v)`` at ``t = 0`` over
-    ``periods`` periods, and the state there.  The stretch may lie in a later period ``j``: the
+    the middle of the longest quiet stretch of flight (:func:`quiet_middle`) of the orbit
+    through ``(x, v)`` at ``t = 0`` over ``periods`` periods, and the state there.  The stretch may lie in a later period ``j``: the
     state is then the orbit's at ``(j + phase) T``, i.e. the state at ``phase T`` of the orbit
     shifted by ``j T`` (the forcing has period ``T``), whose events are away from the section.
     One choice for the point proofs (``orbits.prove_periodic``) and the box proofs (``boxes``):

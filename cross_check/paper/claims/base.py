@@ -180,7 +180,8 @@ def prove(label, scene, x, v, k=1, segment=None, **how) -> dict:
     the box ``radius``, the fixed point's balls ``point`` at ``t = phase T``, the multipliers
     (``[mid, radius]``, or ``{"re", "im"}`` for a complex pair), ``kind``, ``stability`` and
     the ``itinerary``; else ``reason`` (and ``OrbitProof``'s ``residual`` where the test failed
-    on it, ``spread`` where ``P'`` was too wide for it, ``diverged`` where Newton did).  ``segment = (x_lo, x_hi)``: prove the segment of fixed points ``[x_lo, x_hi] x
+    on it, ``spread`` where ``P'`` was too wide for it, ``diverged`` where Newton did).
+    ``segment = (x_lo, x_hi)``: prove the segment of fixed points ``[x_lo, x_hi] x
     {v*}`` of a no-impact orbit instead (``prove_segment``).  ``how``:
     ``prove_periodic``'s ``prec``, ``radius``, ``phase`` (then ``(x, v)`` is the state at
     ``t = phase T``), ``points`` and ``tight``."""
