@@ -127,6 +127,25 @@ def test_the_construction_error_bound_holds(scene):
     assert checked >= 1
 
 
+@settings(max_examples=6)
+@given(position_forced_scenes())
+def test_a_screen_without_the_flight_matrices_is_the_same_flight(scene):
+    """``backflight.run(..., matrices=False)`` (the hard cases' float screen) gives the same
+    samples, Gronwall errors, ``vmax``, start and ``ok`` bit for bit, and no event-state error
+    (NaN): the certificate reads none of it, so it passes the same candidates."""
+    rng = np.random.default_rng(26)
+    n = 5
+    t = rng.uniform(0.05, 1.0, n) * scene.period
+    x = scene.float("l") + (scene.float("r") - scene.float("l")) * rng.uniform(0.05, 0.95, n)
+    v = rng.uniform(-1, 1, n) * scene.float("F") / scene.float("omega")
+    s = np.where(v >= 0, 1.0, -1.0)
+    P = backflight.Params.of(scene)
+    full, screen = (backflight.run(P, t, x, v, s, C.SAMPLES, matrices=m) for m in (True, False))
+    for name in ("x", "v", "err", "vmax", "x0", "v0", "ok"):
+        assert np.array_equal(getattr(full, name), getattr(screen, name), equal_nan=True), name
+    assert np.isnan(screen.dx).all() and np.isnan(screen.dv).all() and np.isfinite(full.dx[full.ok]).all()
+
+
 def test_the_certificate_refuses_a_backward_flight_that_meets_an_earlier_event():
     """Event states whose backward flight leaves the gap (an impact at r arrived at so fast that
     the flight crosses l before t = 0) or passes v = 0 (a turn before t*) are refused; the same

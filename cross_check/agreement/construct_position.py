@@ -75,10 +75,11 @@ def _no_earlier_event(scene, t_star, s, bk, decel):
     return ok & bk.ok
 
 
-def backward(scene, t_star, x_star, v_star, s, decel):
-    """The backward flights (``backflight.run``) from the event states and the certificate of
-    each (``decel = s x''(t*)``): ``(Backward, ok)``."""
-    bk = backflight.run(backflight.Params.of(scene), t_star, x_star, v_star, s, base.SAMPLES)
+def backward(scene, t_star, x_star, v_star, s, decel, matrices=True):
+    """The backward flights (``backflight.run``; ``matrices``: with the event-state error) from
+    the event states and the certificate of each (``decel = s x''(t*)``): ``(Backward, ok)``."""
+    bk = backflight.run(backflight.Params.of(scene), t_star, x_star, v_star, s, base.SAMPLES,
+                        matrices)
     return bk, _no_earlier_event(scene, t_star, s, bk, decel)
 
 
