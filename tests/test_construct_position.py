@@ -103,18 +103,22 @@ def _reversed(scene):
     return Reversed()
 
 
+def _event_states(scene, seed, n):
+    """``n`` event states ``(t*, x*, v*, s)`` across the gap and the period (arrays)."""
+    rng = np.random.default_rng(seed)
+    t = rng.uniform(0.05, 1.0, n) * scene.period
+    x = scene.float("l") + (scene.float("r") - scene.float("l")) * rng.uniform(0.05, 0.95, n)
+    v = rng.uniform(-1, 1, n) * scene.float("F") / scene.float("omega")
+    return t, x, v, np.where(v >= 0, 1.0, -1.0)
+
+
 @settings(max_examples=8)
 @given(position_forced_scenes(restitutions=("1", "0.9", "0.6")))
 def test_the_construction_error_bound_holds(scene):
     """``backflight``'s claim: the forward flight from its float64 start reaches the event
     state within ``(dx, dv)`` -- checked by the reference's Taylor flight at 40 digits, forward
     from the float64 start (exact binary numbers), on event states across the gap."""
-    rng = np.random.default_rng(25)
-    n = 6
-    t = rng.uniform(0.05, 1.0, n) * scene.period
-    x = scene.float("l") + (scene.float("r") - scene.float("l")) * rng.uniform(0.05, 0.95, n)
-    v = rng.uniform(-1, 1, n) * scene.float("F") / scene.float("omega")
-    s = np.where(v >= 0, 1.0, -1.0)
+    t, x, v, s = _event_states(scene, 25, 6)
     bk = backflight.run(backflight.Params.of(scene), t, x, v, s, C.SAMPLES)
     checked = 0
     for i in np.flatnonzero(bk.ok):
@@ -133,12 +137,7 @@ def test_a_screen_without_the_flight_matrices_is_the_same_flight(scene):
     """``backflight.run(..., matrices=False)`` (the hard cases' float screen) gives the same
     samples, Gronwall errors, ``vmax``, start and ``ok`` bit for bit, and no event-state error
     (NaN): the certificate reads none of it, so it passes the same candidates."""
-    rng = np.random.default_rng(26)
-    n = 5
-    t = rng.uniform(0.05, 1.0, n) * scene.period
-    x = scene.float("l") + (scene.float("r") - scene.float("l")) * rng.uniform(0.05, 0.95, n)
-    v = rng.uniform(-1, 1, n) * scene.float("F") / scene.float("omega")
-    s = np.where(v >= 0, 1.0, -1.0)
+    t, x, v, s = _event_states(scene, 26, 5)
     P = backflight.Params.of(scene)
     full, screen = (backflight.run(P, t, x, v, s, C.SAMPLES, matrices=m) for m in (True, False))
     for name in ("x", "v", "err", "vmax", "x0", "v0", "ok"):
