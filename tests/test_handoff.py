@@ -97,12 +97,15 @@ def test_every_true_motion_from_the_box_stays_in_the_handed_sets(scene, x, v, mo
     assert _outside(enc, scene, x, v) == []
 
 
-def _no_rate_before(M, minus_slope, coef, j, DJ, pre, post):
-    return REAL_GRADIENT(M, minus_slope, coef, j, DJ, [0 * p for p in pre], post)
+def _no_rate_before(M, j, DJ, pre, post):
+    """``DJ M - z'+ dtau``: the jump's own move along the flow before the event left out."""
+    dtau = [-M[j][k] / pre[j] for k in range(2)]
+    return [[sum(DJ[i][n] * M[n][k] for n in range(2)) - post[i] * dtau[k] for k in range(2)]
+            for i in range(2)]
 
 
-def _no_rate_after(M, minus_slope, coef, j, DJ, pre, post):
-    return REAL_GRADIENT(M, minus_slope, coef, j, DJ, pre, [0 * p for p in post])
+def _no_rate_after(M, j, DJ, pre, post):
+    return REAL_GRADIENT(M, j, DJ, pre, [0 * p for p in post])
 
 
 REAL_GRADIENT = handoff.gradient

@@ -64,8 +64,8 @@ class Handoff:
 
     def __init__(self, flight, fn, u, kind, side, T):
         self.flight, self.fn, self.kind, self.side, self.T, self.u = flight, fn, kind, side, T, u
-        pieces = flight._pieces(u)
-        self.ok = len(pieces) == 1 and kind in ("impact", "turn")
+        pieces = flight._pieces(u) if kind in ("impact", "turn") else []
+        self.ok = len(pieces) == 1
         if self.ok:
             self.step, self.tau = pieces[0]
 
@@ -83,8 +83,7 @@ class Handoff:
         if before[j + 1].contains(0):
             return None
         after = self._jump(before[:2])
-        G = mat_mul(D, gradient(M, -self.fn.coef * before[j + 1], self.fn.coef, j,
-                                self._jump_derivative(), before[1:3],
+        G = mat_mul(D, gradient(M, j, self._jump_derivative(), before[1:3],
                                 post.stack(self.T, *after)[1:3]))
         c = self._centre(post, base, r0)
         if c is None:
@@ -121,27 +120,23 @@ class Handoff:
         for _ in range(NEWTON_STEPS):
             m = tau.mid()
             g = fn.const + fn.coef * state(m)[j]
-            new = (m - g / slope).intersection(tau) if _overlaps(m - g / slope, tau) else None
-            if new is None:
+            step = m - g / slope
+            if not step.overlaps(tau):
                 return None
-            tau = new
+            tau = step.intersection(tau)
         before = state(tau)
         after = self._jump(before)
         t_star = fl.base + st.sigma + tau
         return _back(post, t_star, after, base)
 
 
-def gradient(M, minus_slope, coef, j, DJ, pre, post):
+def gradient(M, j, DJ, pre, post):
     """``d z_b / dr`` before the factor ``D`` (module docstring): ``DJ (M + z'- dtau) - z'+ dtau``
-    with ``dtau = coef M[j] / minus_slope = -M[j] / z'-[j]`` (``minus_slope = -g'``, ``g' = coef
-    z'-[j]``), ``pre = z'- = (v-, a-)``, ``post = z'+ = (v+, a+)``."""
-    dtau = [coef * M[j][k] / minus_slope for k in range(2)]
+    with ``dtau = -M[j] / z'-[j]`` (the event function is ``+-z[j]`` plus a constant),
+    ``pre = z'- = (v-, a-)``, ``post = z'+ = (v+, a+)``."""
+    dtau = [-M[j][k] / pre[j] for k in range(2)]
     return [[sum(DJ[i][n] * (M[n][k] + pre[n] * dtau[k]) for n in range(2)) - post[i] * dtau[k]
              for k in range(2)] for i in range(2)]
-
-
-def _overlaps(a, b):
-    return not (a.lower() > b.upper() or a.upper() < b.lower())
 
 
 def _back(post, t, z, base):

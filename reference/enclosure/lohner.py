@@ -193,13 +193,13 @@ class ValidatedFlight:
         one, zero = arb(1), arb(0)
         start = None if carried is None else carried.start(self.field, self.base, self.shift,
                                                              (x, v))
-        self.handed = start is not None
+        handed = start is not None
         if start is None:
             mid = [x.mid(), v.mid()]
             start = (mid, [[one, zero], [zero, one]], [x - mid[0], v - mid[1]])
         #: the time the walk's local times count from: the exact ``base`` for a set handed
         #: through an event (``reference.enclosure.handoff``), else the start ball ``t0``
-        self.start, self.lead = (self.base, arb(0)) if self.handed else (t0, self.delta)
+        self.start, self.lead = (self.base, arb(0)) if handed else (t0, self.delta)
         self._state = (arb(0),) + start + ([[one, zero], [zero, one]],)
         self.steps, self._starts = [], []
         self._cap = self._step_cap()
