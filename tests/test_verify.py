@@ -288,13 +288,20 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     assert tasks._proof("o", sc, p, 1, None)["diverged"] and calls == [64]
 
 
-@pytest.mark.parametrize("spread, tried", [(6e9, [64, 192, 320]),     # 9e4 at 96, 1.4 at 128
-                                            (1e4, [64, 96, 128, 192, 320]),   # 0.15 at 96: tried
-                                            (3e40, [64, 320])])          # no rung holds; 320 is tried
-def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spread, tried, monkeypatch):
+@pytest.mark.parametrize("spreads, tried", [({64: 6e9}, [64, 192, 320]),     # 9e4 at 96, 1.4 at 128
+                                             ({64: 1e4}, [64, 96, 128, 192, 320]),   # 0.15 at 96: tried
+                                             ({64: 3e40}, [64, 320]),   # no rung holds; 320 is tried
+                                             # two rungs: 2^-0.25 a bit from 192 leaves 2^-31 at 320
+                                             ({64: 6e9, 192: 2.0}, [64, 192, 320]),
+                                             # scene Y's centre: 2^-0.16 a bit leaves 4.4 at 320
+                                             ({64: 1.6e13, 192: 8.5e6}, [64, 192]),
+                                             ({64: 1e10, 192: 1e12}, [64, 192])])    # it grew
+def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spreads, tried, monkeypatch):
     """``tasks._proof``: a rung that found ``P'`` too wide for any Krawczyk box (``spread``, ``>=
     1``) rules out the rungs where ``spread 2^-((prec - 64) / 2)`` is still 1 or more
-    (``_may_hold``), and tries the others; the last rung is always tried."""
+    (``_may_hold``), and tries the others; the last rung is tried unless two rungs measured the
+    spread and the rate they show (``_spread_at``) leaves it 1 or more there, which the reason
+    then says."""
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0})()
     monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
@@ -304,12 +311,16 @@ def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spread, tr
     def fake(label, sc, x, v, k, prec, radius, phase, points, tight):
         calls.append(prec)
         rec = {"orbit": label, "periods": k, "proved": False, "reason": "test"}
-        return {**rec, "spread": spread} if prec == 64 else rec
+        return {**rec, "spread": spreads[prec]} if prec in spreads else rec
 
     monkeypatch.setattr(tasks, "prove", fake)
-    assert tasks._proof("o", sc, p, 1, None)["proved"] is False and calls == tried
-    assert tasks._may_hold(128, 2.0 ** -64, 0, (64, 6e9)) is False
-    assert tasks._may_hold(192, 2.0 ** -96, 0, (64, 6e9)) is True
+    rec = tasks._proof("o", sc, p, 1, None)
+    assert rec["proved"] is False and calls == tried
+    assert ("no higher rung is tried" in rec["reason"]) == (tried[-1] != 320)
+    assert tasks._may_hold(128, 2.0 ** -64, 0, [(64, 6e9)]) is False
+    assert tasks._may_hold(192, 2.0 ** -96, 0, [(64, 6e9)]) is True
+    assert tasks._spread_at(320, [(64, 1.6e13), (192, 8.5e6)]) == pytest.approx(4.4, rel=0.05)
+    assert tasks._spread_at(320, [(64, 6e9), (192, 6e9 * 2.0 ** -64)]) == pytest.approx(6e9 * 2.0 ** -128)
 
 
 def test_the_proofs_go_to_the_other_orbits_before_the_parabolic_ones():

@@ -219,21 +219,42 @@ RESIDUAL_SLACK = 4.0
 WHOLE_LOSS_PREC = 128
 
 
-def _may_hold(prec, radius, lost, wide=None) -> bool:
+def _spread_at(prec, wide) -> float:
+    """The spread of ``P'`` predicted at ``prec`` bits from the rungs that measured it, ``wide``
+    (``(bits, spread)`` pairs, in the order tried; ``reference.enclosure.orbits._spread``).
+
+    The flights carry ``P'`` to half the precision, so the spread shrinks ~``2^-(bits / 2)``:
+    from one measurement, ``spread 2^-((prec - bits) / 2)``.  From two, at the rate they show
+    if that is slower (``log2(s1 / s2) / (b2 - b1)`` a bit, 0 if it grew): a ``P'`` whose width
+    is not the flights' rounding -- near-parabolic centres, ``(P' - I)^-1`` ~1e9 -- does not
+    narrow with more bits as the model says.  Issue 33, scene Y (``F=2 f=0 omega=0.5 l=-1 r=1
+    wavenumber=2``), two period-3 centres with ``tr P' = 2 - 1.1e-9``: spreads 1.6e13 and
+    3.9e13 at 64 bits, 8.5e6 and 1.4e8 at 192 (rates 0.16 and 0.14 a bit, against 0.5), and
+    their rungs of 320 bits took 16.1 and 7.3 CPU s to fail (a spread of 1.1e9; Newton
+    diverging); at the rates measured 320 bits would leave 4.4 and 5e2."""
+    bits, spread = wide[-1]
+    rate = 0.5
+    if len(wide) >= 2:
+        (b1, s1), (b2, s2) = wide[-2], wide[-1]
+        rate = min(rate, max(0.0, math.log2(s1 / s2) / (b2 - b1)))
+    return spread * 2.0 ** (-rate * (prec - bits))
+
+
+def _may_hold(prec, radius, lost, wide=()) -> bool:
     """Whether a rung of ``PROOF_LADDER`` may hold after a lower one lost ``lost`` bits: its
     residual ``~2^(lost - prec)`` must be within ``RESIDUAL_SLACK`` times the ``2 r`` that the
     Krawczyk test allows (``r`` the rung's box radius, ``2^-(prec // 3)`` by default).  Scene D
     (issue 33): its period-3 orbits lose 53 bits at 64, so the rung of 96 (box 2^-48) is
     skipped and 128 proves them, as it did after 96 failed.
 
-    ``wide = (bits, spread)``: a lower rung of ``bits`` found ``P'`` too wide for any Krawczyk
-    box (``reference.enclosure.orbits._spread``, ``spread >= 1``).  The flights carry ``P'`` to
-    half the precision, so the spread at ``prec`` is ~``spread 2^-((prec - bits) / 2)``, and a
-    rung where that is still 1 or more is skipped.  Issue 33, period-3 orbits of the
-    frictionless corner (51 events): spreads 6e9, 6.5e4 and 1.2 at 64, 96 and 128 bits (the
-    model says 9e4 and 1.4 from 64), and 192 proves; each failed rung was a whole walk."""
+    ``wide``: the ``(bits, spread)`` of the lower rungs that found ``P'`` too wide for any
+    Krawczyk box (``reference.enclosure.orbits._spread``, ``spread >= 1``); a rung where the
+    spread predicted by :func:`_spread_at` is still 1 or more is skipped.  Issue 33, period-3
+    orbits of the frictionless corner (51 events): spreads 6e9, 6.5e4 and 1.2 at 64, 96 and
+    128 bits (the model says 9e4 and 1.4 from 64), and 192 proves; each failed rung was a
+    whole walk."""
     r = 2.0 ** -(prec // 3) if radius is None else radius
-    if wide is not None and wide[1] * 2.0 ** (-(prec - wide[0]) / 2) >= 1:
+    if wide and _spread_at(prec, wide) >= 1:
         return False
     return 2.0 ** (lost - prec) <= RESIDUAL_SLACK * 2 * r
 
@@ -263,7 +284,9 @@ def _proof(label, sc, p, period, seg) -> dict:
     of fixed points), and each failed up the whole ladder in ~32 CPU s (128 bits: 9.9, 320: 21.9);
     ``orbits`` gives its ``max_proofs`` to the other orbits first.  Where Newton diverges
     (``reference.enclosure.orbits.DIVERGE_GROWTH``) no rung is tried after it: on that scene a
-    period-2 saddle's rungs of 192 and 320 bits took 37 CPU s to fail so.  The multipliers come
+    period-2 saddle's rungs of 192 and 320 bits took 37 CPU s to fail so.  Nor after two rungs
+    whose ``P'`` was too wide, narrowing at a rate that leaves the rungs above too wide
+    (:func:`_spread_at`).  The multipliers come
     from ``P'`` over the Krawczyk box where that decides the type (``prove_periodic``'s
     ``tight=False``: the report gives them to 4 digits), one walk fewer a proof."""
     from reference.enclosure.maps import point_log
@@ -276,22 +299,26 @@ def _proof(label, sc, p, period, seg) -> dict:
         phase, x, v = _section(sc, p.x, p.v, period)
         guide = point_log(sc, x, v, period, phase, PROOF_LADDER[0][0])
         ladder = PROOF_LADDER[:1] if p.kind == "parabolic" else PROOF_LADDER
-        lost, wide = 0.0, None
+        lost, wide = 0.0, []
         for prec, radius in ladder:
-            if not _may_hold(prec, radius, lost, wide) and (prec, radius) != ladder[-1]:
+            if not _may_hold(prec, radius, lost, wide) and ((prec, radius) != ladder[-1] or len(wide) > 1):
                 continue
-            rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase, points=guide,
-                        tight=False)
+            rec, tried = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase,
+                               points=guide, tight=False), prec
             if rec["proved"] or rec.get("diverged"):       # more bits take Newton's same path
                 return rec
             if rec.get("spread"):
-                wide = (prec, rec["spread"])
+                wide.append((prec, rec["spread"]))
             if rec.get("residual"):
                 lost = max(lost, math.log2(rec["residual"]) + prec)
                 if prec >= WHOLE_LOSS_PREC and rec["residual"] >= 1:
                     rec["reason"] += (f" (every one of the {prec} bits lost: not a rounding loss, "
                                       f"which more bits would shrink; no higher rung is tried)")
                     return rec
+        if tried != prec and len(wide) > 1:
+            rec["reason"] += (f" (P' narrowed from {wide[-2][1]:.2g} at {wide[-2][0]} bits to "
+                              f"{wide[-1][1]:.2g} at {wide[-1][0]}: at that rate {prec} bits would "
+                              f"leave {_spread_at(prec, wide):.2g}; no higher rung is tried)")
         if ladder is not PROOF_LADDER:
             rec["reason"] = (f"parabolic in float64 (tr within {periodic.PARABOLIC_TOL:g} of +-2: "
                              f"det(P' - I) ~ 0), tried at {ladder[0][0]} bits only: {rec['reason']}")
