@@ -14,7 +14,7 @@ from __future__ import annotations
 import mpmath
 
 import reference
-from cross_check.agreement import compare, hardcases
+from cross_check.agreement import compare, hardcases, impact_at_t
 from cross_check.agreement import forward_position as FP
 from cross_check.agreement.impact_backward import speed_scale
 from reference.enclosure.maps import MapEnclosure
@@ -54,7 +54,7 @@ def test_a_stop_that_does_not_stick_as_screened_or_an_unproved_itinerary_is_refu
     refused, why = FP.sticking(sc)
     assert refused is None and "has no sticking event" in why
     monkeypatch.undo()
-    monkeypatch.setattr(FP, "enclose_map", lambda *a, **k: MapEnclosure(False, "a failure, injected"))
+    monkeypatch.setattr(impact_at_t, "enclose_map", lambda *a, **k: MapEnclosure(False, "a failure, injected"))
     refused, why = FP.sticking(sc)
     assert refused is None and "a failure, injected" in why
 

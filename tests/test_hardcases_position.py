@@ -234,7 +234,24 @@ def test_impact_at_T_from_rest_needs_its_bracket_and_its_forward_proof(monkeypat
                         lambda *a, **k: bits.append(k["max_prec"]) or MapEnclosure(False, "a failure, injected"))
     case, why = impact_at_t.construct(sc, HP.STATE_DIGITS)
     assert case is None and "the forward proof failed: a failure, injected" in why
-    assert bits and set(bits) == {impact_at_t.PROOF_MAX_PREC}            # no climb to 1280 bits
+    first, most = impact_at_t.PROOF_FIRST_PREC, impact_at_t.PROOF_MAX_PREC
+    assert bits[:2] == [first, most] and set(bits) == {first, most}     # no climb to 1280 bits
+
+
+def test_a_forward_proof_takes_its_first_bits_and_more_only_where_they_fail(monkeypatch):
+    """``impact_at_t.forward_proof``: the proof at ``PROOF_FIRST_PREC`` bits where it holds; where
+    it fails, the one from ``DEFAULT_PREC`` up to ``PROOF_MAX_PREC``, proved or not."""
+    calls = []
+
+    def fake(scene, x, v, prec=320, max_prec=320, holds=()):
+        calls.append((prec, max_prec))
+        return MapEnclosure(prec in holds, None if prec in holds else "no")
+
+    for holds, tried, proved in (((128,), [(128, 128)], True), ((320,), [(128, 128), (320, 320)], True),
+                                 ((), [(128, 128), (320, 320)], False)):
+        calls[:] = []
+        monkeypatch.setattr(impact_at_t, "enclose_map", lambda *a, holds=holds, **k: fake(*a, holds=holds, **k))
+        assert impact_at_t.forward_proof(SCENES["C"], "0.1", "0").proved is proved and calls == tried
 
 
 def test_impact_at_T_at_restitution_0_through_plastic_impacts(monkeypatch):
@@ -434,7 +451,7 @@ def test_chatter_later_in_the_period_where_the_push_at_t0_is_below_friction(monk
     refused, why = forward_position.chatter(sc, hardcases.RHO_MAX)
     assert refused is None and "has no chatter event" in why
     monkeypatch.undo()
-    monkeypatch.setattr(forward_position, "enclose_map", lambda *a, **k: MapEnclosure(False, "a failure, injected"))
+    monkeypatch.setattr(impact_at_t, "enclose_map", lambda *a, **k: MapEnclosure(False, "a failure, injected"))
     refused, why = forward_position.chatter(sc, hardcases.RHO_MAX)
     assert refused is None and "a failure, injected" in why
     monkeypatch.undo()

@@ -25,7 +25,7 @@ Each case is found forward:
 2. **reference**: from the start, its ``x0`` rounded to ``X_DIGITS`` digits, the reference's log
    at ``CHECK_DPS`` digits must have the event too, with the screen's itinerary before it;
 3. **certify**: ``reference.enclosure.enclose_map`` proves the start's itinerary over ``[0, T]``
-   forward (a chatter run's tail bounded, ``reference.enclosure.walk.chatter_tail``).
+   forward (``impact_at_t.forward_proof``) (a chatter run's tail bounded, ``reference.enclosure.walk.chatter_tail``).
 
 fast only orders the candidates; the reference and the proof decide.
 """
@@ -39,10 +39,9 @@ import numpy as np
 import reference
 from cross_check.agreement import compare
 from cross_check.agreement.case import HardCase, decimal_text, first_built
-from cross_check.agreement.impact_at_t import (MORE_EVENTS, N_SCAN, PROOF_MAX_PREC, budgeted, logs, scan_grid,
+from cross_check.agreement.impact_at_t import (MORE_EVENTS, N_SCAN, budgeted, forward_proof, logs, scan_grid,
                                                 speeds, speeds_text)
 from cross_check.agreement.impact_backward import speed_scale
-from reference.enclosure import enclose_map
 
 #: the event must come before this fraction of the period (a chatter run's contact and release,
 #: a stick's slip, then fall inside the proof's ``[0, T]`` as well)
@@ -200,7 +199,7 @@ def _checked(scene, name, x0, v0, t_screen, side):
         at = (ats[0] if name == "chatter" else min(ats, key=lambda i: abs(log[i].t - t_screen))) if ats else None
         if at is None or (name == "sticking" and not (_sticks(scene, log[at]) and "slip" in kinds[at:])):
             return None, f"the reference from ({x_text}, {v0}) has no {name} event where fast has: {kinds[:12]}"
-        enc = enclose_map(scene, x_text, v0, max_prec=PROOF_MAX_PREC)
+        enc = forward_proof(scene, x_text, v0)
         proved = [e.kind for e in enc.events] if enc.proved else []
         itinerary = [[e.kind for e in compare.canonical_of(events, scene)] for events in (enc.events, log)]
         if kind not in proved or (name == "sticking" and itinerary[0] != itinerary[1]):
