@@ -167,6 +167,25 @@ def test_a_residual_wider_than_the_box_is_refused_before_the_box_is_walked(symme
     assert fine.proved and fine.kind == "saddle", fine.reason
 
 
+def test_a_test_failed_after_newton_converged_hands_on_its_centre(symmetric):
+    """A Krawczyk test that fails once Newton has converged gives its polished centre
+    (``OrbitProof.centre``; ``paper.claims.base.prove``'s ``centre``, decimal strings): a seed
+    from which a proof with more bits starts converged, and proves the same fixed point.  The
+    failures before convergence give none (the diverging and the too-wide tests above)."""
+    from cross_check.paper.claims.base import prove
+    sc, proofs = symmetric
+    saddle = proofs["saddle"]
+    x, v = (float(b.mid()) + 1e-9 for b in saddle.point)      # a float seed 1e-9 off
+    tiny = prove_periodic(sc, x, v, phase=saddle.phase, prec=64, radius="1e-25")
+    assert not tiny.proved and len(tiny.centre) == 2
+    assert all(abs(c - p.mid()) < 1e-15 for c, p in zip(tiny.centre, saddle.point))   # polished
+    rec = prove("saddle", sc, x, v, prec=64, radius="1e-25", phase=saddle.phase)
+    assert not rec["proved"] and len(rec["centre"]) == 2
+    again = prove_periodic(sc, *rec["centre"], phase=saddle.phase, prec=96)
+    assert again.proved and again.kind == "saddle", again.reason
+    assert all(again.point[i].overlaps(saddle.point[i]) for i in range(2))
+
+
 def _fold_states():
     """x1 and x2 of ``fold/near`` (``f = 2/pi - 10^-6``: 0.0226 apart) at ``t = T/2``."""
     sc = scenes.scene("fold/near")
@@ -344,7 +363,7 @@ def test_a_newton_that_converges_then_jumps_away_is_refused_as_diverging(monkeyp
     monkeypatch.setattr(orbits, "enclose_map", _scripted_map([1e-2, 1e-4, 1e-5, 0.1, 1e-9], calls))
     proof = prove_periodic(sc, "0.1", "0.2", periods=1, phase=Fraction(0), prec=64, points=[])
     assert not proof.proved and proof.diverged and "Newton diverges" in proof.reason, proof.reason
-    assert len(calls) == 4                       # the iterate 0.1 away is never walked
+    assert len(calls) == 4 and proof.centre == ()      # the iterate 0.1 away is never walked, nor handed on
     calls.clear()
     monkeypatch.setattr(orbits, "enclose_map", _scripted_map([1e-3, 0.1, 1e-4, 1e-5, 1e-9], calls))
     with workprec(64):
@@ -408,7 +427,7 @@ def test_a_centre_whose_jacobian_is_too_wide_for_any_krawczyk_box_is_refused_at_
                 orbits._newton(sc, z0, 1, Fraction(0), 64, None, [])
             proof = prove_periodic(sc, "0.1", "0.2", periods=1, phase=Fraction(0), prec=64, points=[])
             assert not proof.proved and not proof.diverged and "too wide" in proof.reason
-            assert len(calls) == 2                  # one walk each: no Newton step was taken
+            assert len(calls) == 2 and proof.centre == ()    # one walk each: no Newton step was taken
         else:
             z, enc, ahead = orbits._newton(sc, z0, 1, Fraction(0), 64, None, [])
             assert enc.proved and len(calls) == 3

@@ -323,6 +323,30 @@ def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spreads, t
     assert tasks._spread_at(320, [(64, 6e9), (192, 6e9 * 2.0 ** -64)]) == pytest.approx(6e9 * 2.0 ** -128)
 
 
+def test_an_orbit_proof_seeds_each_rung_with_the_centre_the_one_below_polished(monkeypatch):
+    """``tasks._proof``: a rung whose test failed after Newton converged (``centre``) hands that
+    centre to the next rung as its seed; a rung without one leaves the seed as it was; the
+    record returned has no ``centre``."""
+    sc = scenes.scene("fig:xpotno")
+    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0})()
+    monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
+    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a: None)
+    seeds, centres = [], {64: ["0.31", "0.21"], 128: ["0.32", "0.22"]}
+
+    def fake(label, sc, x, v, k, prec, radius, phase, points, tight):
+        seeds.append((prec, x, v))
+        rec = {"orbit": label, "periods": k, "proved": prec == 192, "reason": "test"}
+        return {**rec, "centre": centres[prec]} if prec in centres else rec
+
+    monkeypatch.setattr(tasks, "prove", fake)
+    rec = tasks._proof("o", sc, p, 1, None)
+    assert rec["proved"] and "centre" not in rec
+    assert seeds == [(64, 0.3, 0.2), (96, "0.31", "0.21"), (128, "0.31", "0.21"), (192, "0.32", "0.22")]
+    centres[192] = ["0.33", "0.23"]                 # a last rung that fails: no centre in its record
+    monkeypatch.setattr(tasks, "prove", lambda *a, **k: {**fake(*a, **k), "proved": False})
+    assert "centre" not in tasks._proof("o", sc, p, 1, None)
+
+
 def test_the_proofs_go_to_the_other_orbits_before_the_parabolic_ones():
     """``tasks._attempted``: ``max_proofs`` orbits in order, those fast finds parabolic last."""
     kinds = ["parabolic", "saddle", "parabolic", "centre", "saddle"]

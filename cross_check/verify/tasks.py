@@ -286,7 +286,10 @@ def _proof(label, sc, p, period, seg) -> dict:
     (``reference.enclosure.orbits.DIVERGE_GROWTH``) no rung is tried after it: on that scene a
     period-2 saddle's rungs of 192 and 320 bits took 37 CPU s to fail so.  Nor after two rungs
     whose ``P'`` was too wide, narrowing at a rate that leaves the rungs above too wide
-    (:func:`_spread_at`).  The multipliers come
+    (:func:`_spread_at`).  A rung whose Newton converged before its Krawczyk test failed hands its
+    centre to the next as the seed (``prove``'s ``centre``): scene Y's period-3 orbits that
+    prove at 192 bits took three Newton walks there from the section's float64 state, one from
+    the centre of 128.  The multipliers come
     from ``P'`` over the Krawczyk box where that decides the type (``prove_periodic``'s
     ``tight=False``: the report gives them to 4 digits), one walk fewer a proof."""
     from reference.enclosure.maps import point_log
@@ -305,6 +308,7 @@ def _proof(label, sc, p, period, seg) -> dict:
                 continue
             rec, tried = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase,
                                points=guide, tight=False), prec
+            x, v = rec.pop("centre", (x, v))                # polished: the next rung's seed
             if rec["proved"] or rec.get("diverged"):       # more bits take Newton's same path
                 return rec
             if rec.get("spread"):

@@ -50,6 +50,9 @@ class OrbitProof:
     spread: float = 0.0
     #: Newton diverged from the seed (``orbits.DIVERGE_GROWTH``): more bits take the same path
     diverged: bool = False
+    #: a Krawczyk test that failed after Newton converged: the polished centre ``z~`` (exact
+    #: balls), a seed for a proof with more bits (whose Newton then starts converged)
+    centre: tuple = ()
 
 
 #: the kinds ``classify`` gives where the enclosures do not decide the type

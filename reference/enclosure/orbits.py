@@ -216,7 +216,11 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, points=Non
     walk fails; ``tight=False``: ``P'(B)`` where its enclosures decide the type, one walk fewer:
     issue 33, the walks over ``K`` were 2.0 of 13.8 and 2.9 of 27.0 CPU s of two unseen scenes'
     orbit proofs).  The test cannot pass if ``C F(z)`` alone is wider than ``Z`` (``K`` holds
-    it): then the box is not walked.  ``points``: the point log that guides every walk."""
+    it): then the box is not walked.  ``points``: the point log that guides every walk.  A test
+    that fails once the centre is proved and ``P' - I`` invertible there gives ``z~`` as
+    ``centre``: a seed for more bits (issue 33: a rung of 192 bits from the seed took three
+    Newton walks before its box, scene Y's period-3 orbits, where one does from a centre
+    polished at 128)."""
     fail = OrbitProof(False, periods, prec=prec, radius=float(r))
     if not enc_mid.proved:
         fail.reason = f"Phi^{periods} {UNCENTRED}: {enc_mid.reason}"
@@ -227,6 +231,8 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, points=Non
         fail.reason = ("det(P' - I) vanishes at the centre: the fixed point is not isolated "
                        "(a family of fixed points), which no Krawczyk box can single out")
         return fail
+    zt = z if ahead is None else ahead
+    fail.centre = tuple(zt)
     C = arb_mat(_mid(_inverse(M)))
     head = C * arb_mat([[enc_mid.phi[0] - z[0]], [enc_mid.phi[1] - z[1]]])
     if any(head[i, 0].rad() > 2 * r for i in range(2)):     # rad K >= rad head > 2 r
@@ -235,7 +241,6 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, points=Non
                        f"|C (P(z) - z)|, has radii {radii}")
         fail.residual = max(radii)
         return fail
-    zt = z if ahead is None else ahead
     d = [zt[0] - z[0], zt[1] - z[1]]
     box = enclose_map(scene, z[0], z[1], periods=periods, phase=phase, x_radius=(r + abs(d[0])).upper(),
                       v_radius=(r + abs(d[1])).upper(), prec=prec, max_prec=prec, points=points)

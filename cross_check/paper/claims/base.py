@@ -180,7 +180,9 @@ def prove(label, scene, x, v, k=1, segment=None, **how) -> dict:
     the box ``radius``, the fixed point's balls ``point`` at ``t = phase T``, the multipliers
     (``[mid, radius]``, or ``{"re", "im"}`` for a complex pair), ``kind``, ``stability`` and
     the ``itinerary``; else ``reason`` (and ``OrbitProof``'s ``residual`` where the test failed
-    on it, ``spread`` where ``P'`` was too wide for it, ``diverged`` where Newton did).
+    on it, ``spread`` where ``P'`` was too wide for it, ``diverged`` where Newton did, and
+    ``centre``, decimal strings, where Newton converged before the test failed: a seed for a
+    proof with more bits).
     ``segment = (x_lo, x_hi)``: prove the segment of fixed points ``[x_lo, x_hi] x
     {v*}`` of a no-impact orbit instead (``prove_segment``).  ``how``:
     ``prove_periodic``'s ``prec``, ``radius``, ``phase`` (then ``(x, v)`` is the state at
@@ -195,6 +197,9 @@ def prove(label, scene, x, v, k=1, segment=None, **how) -> dict:
             rec["spread"] = p.spread
         if p.diverged:
             rec["diverged"] = True
+        if p.centre:            # to the proof's bits: Newton at more bits starts converged there
+            digits = int(p.prec * 0.30103) + 3
+            rec["centre"] = [c.str(digits, radius=False) for c in p.centre]
         return rec
     with workprec(p.prec):
         mults = [{"re": _ball(m[0]), "im": _ball(m[1])} if isinstance(m, tuple) else _ball(m)
