@@ -198,7 +198,7 @@ def prove(label, scene, x, v, k=1, segment=None, **how) -> dict:
         if p.diverged:
             rec["diverged"] = True
         if p.centre:            # to the proof's bits: Newton at more bits starts converged there
-            digits = int(p.prec * 0.30103) + 3
+            digits = mpmath.libmp.prec_to_dps(p.prec) + 3
             rec["centre"] = [c.str(digits, radius=False) for c in p.centre]
         return rec
     with workprec(p.prec):
