@@ -55,12 +55,12 @@ class EventLog:
 
     def __getitem__(self, i):
         j = self._flat(i)
-        flat = lambda a: a.reshape(len(self), a.shape[-1])[j]  # noqa: E731
         n = int(self.n.ravel()[j])
-        k, t, x, v, vb, c = (flat(a)[:n] for a in (self.kind, self.t, self.x, self.v,
-                                                    self.v_before, self.count))
-        return [Event(KINDS[k[e]], float(t[e]), float(x[e]), float(v[e]), float(vb[e]), int(c[e]))
-                for e in range(n)]
+        # one ``tolist`` per column (Python floats, exact), not a numpy scalar per value: the
+        # hard cases' scans read ~10^4 logs of up to ~100 events (issue 33, the narrow corner)
+        k, t, x, v, vb, c = (a.reshape(len(self), a.shape[-1])[j, :n].tolist()
+                             for a in (self.kind, self.t, self.x, self.v, self.v_before, self.count))
+        return list(map(Event, map(KINDS.__getitem__, k), t, x, v, vb, map(int, c)))
 
     def __len__(self):
         return int(np.prod(self.shape))

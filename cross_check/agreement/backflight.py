@@ -141,11 +141,12 @@ def enclosure(P: Params, vabs, rho):
     chw = np.cosh(np.minimum(P.w * rho, 700.0))
     V = rho * (P.F * chw + P.f + c * vabs)
     ok = np.zeros(vabs.shape, bool)
-    X = rho * (vabs + V)
     for _ in range(60):
-        X = rho * (vabs + V)
-        need = rho * (P.F * np.cosh(np.minimum(P.k * X, 700.0)) * chw + P.f + c * (vabs + V))
-        good = (need * (1 + 1e-9) <= V) & (P.k * X < 700) & np.isfinite(need)
+        speed = vabs + V
+        X = rho * speed
+        kX = P.k * X
+        need = rho * (P.F * np.cosh(np.minimum(kX, 700.0)) * chw + P.f + c * speed)
+        good = (need * (1 + 1e-9) <= V) & (kX < 700) & np.isfinite(need)
         ok |= good
         if ok.all():
             break
