@@ -318,6 +318,12 @@ def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spreads, t
     assert rec["proved"] is False and calls == tried
     assert ("no higher rung is tried" in rec["reason"]) == (tried[-1] != 320)
     assert tasks._may_hold(128, 2.0 ** -64, 0, [(64, 6e9)]) is False
+    if spreads == {64: 1e4}:    # two spreads that allow 320, and a residual loss that rules it out
+        spreads[96], calls[:] = 1.5, []
+        monkeypatch.setattr(tasks, "prove", lambda *a, **k: {**fake(*a, **k), "residual": 2.0 ** 125}
+                            if k["prec"] == 96 else fake(*a, **k))
+        rec = tasks._proof("o", sc, p, 1, None)
+        assert calls == [64, 96, 320] and "no higher rung" not in rec["reason"]   # the last is tried
     assert tasks._may_hold(192, 2.0 ** -96, 0, [(64, 6e9)]) is True
     assert tasks._spread_at(320, [(64, 1.6e13), (192, 8.5e6)]) == pytest.approx(4.4, rel=0.05)
     assert tasks._spread_at(320, [(64, 6e9), (192, 6e9 * 2.0 ** -64)]) == pytest.approx(6e9 * 2.0 ** -128)

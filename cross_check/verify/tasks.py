@@ -302,12 +302,14 @@ def _proof(label, sc, p, period, seg) -> dict:
         phase, x, v = _section(sc, p.x, p.v, period)
         guide = point_log(sc, x, v, period, phase, PROOF_LADDER[0][0])
         ladder = PROOF_LADDER[:1] if p.kind == "parabolic" else PROOF_LADDER
-        lost, wide = 0.0, []
+        lost, wide, stalled = 0.0, [], False
         for prec, radius in ladder:
-            if not _may_hold(prec, radius, lost, wide) and ((prec, radius) != ladder[-1] or len(wide) > 1):
+            # the last rung is tried unless two measured spreads rule it out (``_spread_at``)
+            stalled = len(wide) > 1 and _spread_at(prec, wide) >= 1
+            if not _may_hold(prec, radius, lost, wide) and ((prec, radius) != ladder[-1] or stalled):
                 continue
-            rec, tried = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase,
-                               points=guide, tight=False), prec
+            rec = prove(label, sc, x, v, k=period, prec=prec, radius=radius, phase=phase, points=guide,
+                        tight=False)
             x, v = rec.pop("centre", (x, v))                # polished: the next rung's seed
             if rec["proved"] or rec.get("diverged"):       # more bits take Newton's same path
                 return rec
@@ -319,7 +321,7 @@ def _proof(label, sc, p, period, seg) -> dict:
                     rec["reason"] += (f" (every one of the {prec} bits lost: not a rounding loss, "
                                       f"which more bits would shrink; no higher rung is tried)")
                     return rec
-        if tried != prec and len(wide) > 1:
+        if stalled:                 # the loop ended on the last rung, skipped
             rec["reason"] += (f" (P' narrowed from {wide[-2][1]:.2g} at {wide[-2][0]} bits to "
                               f"{wide[-1][1]:.2g} at {wide[-1][0]}: at that rate {prec} bits would "
                               f"leave {_spread_at(prec, wide):.2g}; no higher rung is tried)")
