@@ -135,7 +135,7 @@ class CosineForcing:
         # stick entered exactly where the force falls through the level is not left at once
         tol = mpmath.ldexp(abs(theta) + 8, -mpmath.mp.prec + NOISE_BITS)
         if force_noise:
-            tol = max(tol, force_noise / (abs(b) * mpmath.sqrt(1 - (level / b) ** 2)))
+            tol = max(tol, force_noise / (abs(b) * mpmath.sin(alpha)))
         if phi < alpha - tol or phi >= self.two_pi - alpha - tol:
             return t
         return max(t, t + (self.two_pi - alpha - phi) / self.w)
