@@ -435,6 +435,6 @@ def test_a_centre_whose_jacobian_is_too_wide_for_any_krawczyk_box_is_refused_at_
 
 def test_the_jacobian_spread_is_row_sums_of_abs_inverse_times_radii():
     J = [[3 + arb(0, 0.25), arb(0, 0.5)], [arb(0, 0.1), 3 + arb(0, 0.1)]]
-    M = [[arb(2), arb(0)], [arb(0), arb(4)]]           # C = diag(1/2, 1/4)
-    spread = float(orbits._spread(J, M).mid())        # radii are stored rounded up (30 bits)
+    C = orbits._inverse([[arb(2), arb(0)], [arb(0), arb(4)]])     # mid (P' - I)^-1 = diag(1/2, 1/4)
+    spread = float(orbits._spread(J, C).mid())        # radii are stored rounded up (30 bits)
     assert max(0.5 * 0.75, 0.25 * 0.2) <= spread <= 0.375 * (1 + 1e-8)

@@ -70,8 +70,9 @@ class _TooWide(Exception):
         self.spread = spread
 
 
-def _spread(J, M):
-    """``max_i sum_j (|C| rad P')_ij`` with ``C = (mid (P' - I))^-1``, ``M = mid (P' - I)``.
+def _spread(J, C):
+    """``max_i sum_j (|C| rad P')_ij`` with ``C = (mid (P' - I))^-1`` (Newton's own, ``_newton``)
+    and ``J = P'``.
 
     Krawczyk's ``I - C (P'(B) - I)`` has entrywise radii at least ``|C| rad P'(B)``, and
     ``P'(B)`` over a box holds ``P'`` at its centre: at a spread of 1 or more no box contracts,
@@ -81,7 +82,6 @@ def _spread(J, M):
     its ``P'`` (the flights' derivative to half the precision, wrapped over 51 factors) is
     +-0.5 wide; Newton on its midpoint wandered for 50 CPU s and was declared divergent, so the
     192-bit rung that proves the orbit was never tried."""
-    C = _inverse(M)
     return max(sum(abs(C[i][k]) * J[k][j].rad() for k in range(2) for j in range(2))
                for i in range(2))
 
@@ -122,13 +122,14 @@ def _newton(scene, z, periods, phase, prec, small=None, points=None):
         M = _mid(_mat_sub_identity(enc.jacobian))
         if (M[0][0] * M[1][1] - M[0][1] * M[1][0]).is_zero():
             return z, enc, None
-        spread = _spread(enc.jacobian, M)
+        C = _inverse(M)
+        spread = _spread(enc.jacobian, C)
         if not spread < 1:
             spread = float(spread.upper())
             raise _TooWide(spread, f"P' at the centre is too wide for a Krawczyk box at {prec} "
                                    f"bits: |(P' - I)^-1| rad P' = {spread:.2g} >= 1 (more bits "
                                    f"narrow it)")
-        step = _matvec(_inverse(M), [enc.phi[0].mid() - z[0], enc.phi[1].mid() - z[1]])
+        step = _matvec(C, [enc.phi[0].mid() - z[0], enc.phi[1].mid() - z[1]])
         new = [(z[0] - step[0]).mid(), (z[1] - step[1]).mid()]
         if (new == z or all(abs(step[i]) <= 4 * enc.phi[i].rad() for i in range(2))
                 or (small is not None and all(abs(step[i]) <= small for i in range(2)))):
