@@ -240,7 +240,7 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     Newton diverged (``diverged``) none is tried, nor after a rung of ``WHOLE_LOSS_PREC`` bits or
     more whose residual ball is 1 wide (every bit lost: not rounding)."""
     sc = scenes.scene("fig:xpotno")
-    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0})()
+    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
     monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
     monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a: None)
     ladder = [prec for prec, _ in tasks.PROOF_LADDER]
@@ -263,7 +263,7 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     p.trace = 2.0 - 1e-10                                           # det(P' - I) ~ 0: not attempted
     rec = tasks._proof("o", sc, p, 1, None)
     assert calls == [64] and rec["reason"] == tasks.SINGULAR and rec["proved"] is False
-    p.kind, calls[:] = "saddle", []
+    p.kind, p.trace, calls[:] = "saddle", 3.0, []
 
     def every_bit_lost(label, sc, x, v, k, prec, radius, phase, points, tight):
         calls.append(prec)
@@ -288,6 +288,34 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     assert tasks._proof("o", sc, p, 1, None)["diverged"] and calls == [64]
 
 
+@pytest.mark.parametrize("kind, trace, det, tried", [
+    ("centre", 2 - 1.2e-9, 1.0, [64]),              # scene Y's family members beyond PARABOLIC_TOL
+    ("saddle", 2 + 1.3e-9, 1.0 + 1e-13, [64]),
+    ("centre", 2 - 3.6e-8, 1.0, None),               # the elliptic centre proved at 192 bits
+    ("saddle", 2 + 1.2e-9, 0.5, None),               # not area-preserving: no family of this kind
+    ("node", 2 - 1.2e-9, 1.0, None)])
+def test_a_near_parabolic_orbit_of_an_area_preserving_map_is_tried_on_the_first_rung_only(
+        kind, trace, det, tried, monkeypatch):
+    """``tasks._proof``: a centre or saddle of an area-preserving map within ``FAMILY_TOL`` of
+    ``tr = +2`` in float64 (a family's member: its rungs of 192 and 320 bits failed on the
+    frictionless corners) is tried at 64 bits only, and its reason says why; outside that band,
+    or off ``det = 1``, the whole ladder."""
+    sc = scenes.scene("fig:xpotno")
+    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": kind, "trace": trace, "det": det})()
+    monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
+    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a: None)
+    calls = []
+
+    def fake(label, sc, x, v, k, prec, radius, phase, points, tight):
+        calls.append(prec)
+        return {"orbit": label, "periods": k, "proved": False, "reason": "test"}
+
+    monkeypatch.setattr(tasks, "prove", fake)
+    rec = tasks._proof("o", sc, p, 3, None)
+    assert calls == (tried or [prec for prec, _ in tasks.PROOF_LADDER])
+    assert ("FAMILY_TOL" in rec["reason"] and "tried at 64 bits only" in rec["reason"]) == bool(tried)
+
+
 @pytest.mark.parametrize("spreads, tried", [({64: 6e9}, [64, 192, 320]),     # 9e4 at 96, 1.4 at 128
                                              ({64: 1e4}, [64, 96, 128, 192, 320]),   # 0.15 at 96: tried
                                              ({64: 3e40}, [64, 320]),   # no rung holds; 320 is tried
@@ -303,7 +331,7 @@ def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spreads, t
     spread and the rate they show (``_spread_at``) leaves it 1 or more there, which the reason
     then says."""
     sc = scenes.scene("fig:xpotno")
-    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0})()
+    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
     monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
     monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a: None)
     calls = []
@@ -334,7 +362,7 @@ def test_an_orbit_proof_seeds_each_rung_with_the_centre_the_one_below_polished(m
     centre to the next rung as its seed; a rung without one leaves the seed as it was; the
     record returned has no ``centre``."""
     sc = scenes.scene("fig:xpotno")
-    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0})()
+    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
     monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
     monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a: None)
     seeds, centres = [], {64: ["0.31", "0.21"], 128: ["0.32", "0.22"]}

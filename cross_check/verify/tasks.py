@@ -270,6 +270,32 @@ def _may_hold(prec, radius, lost, wide=()) -> bool:
 SINGULAR = ("not attempted: parabolic with tr P' ~ +2 in float64 (|tr - 2| <= PARABOLIC_TOL, |det - 1| "
             "<= claim_unit_det): det(P' - I) ~ 0, whose inverse the Krawczyk operator needs")
 
+#: ``|tr P' - 2|`` in float64 within which a centre or saddle of an area-preserving map is tried on
+#: the first rung only, as a parabolic one (``_first_rung_only``): the members of a family of fixed
+#: points, whose ``P' - I`` is singular, scatter this far from 2 in float64 (fast's Newton stops
+#: ``1e-11`` off the family, and its trace carries that off).  Issue 33, the frictionless corners
+#: ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2`` and ``F=3 f=0 omega=0.5 l=-2 r=2 wavenumber=2``
+#: (periods 1 to 3, 647 points found): the members' ``|tr - 2|`` run from 1e-15 to 1.3e-9, past
+#: ``PARABOLIC_TOL``; the next point lies at 3.6e-8 (an elliptic centre, ``1 +- 1.9e-4 i``, proved at
+#: 192 bits).  The eight members between 1e-9 and 1.3e-9 were classed centres: their rungs of 192
+#: and 320 bits failed (``P'`` too wide: at 192 bits ``|(P' - I)^-1|`` ~1e24 once Newton reached
+#: the family, or Newton diverging), ~12 CPU s on the first scene and ~49 on the second.  In the
+#: reports of this issue's sweeps (108 scenes, 1,978 orbits) no proved centre lies within 2e-4.
+FAMILY_TOL = 1e-8
+
+
+def _first_rung_only(p) -> str | None:
+    """Why an orbit is tried on the first rung alone, or None: flip-parabolic in float64 (``|tr +
+    2| <= periodic.PARABOLIC_TOL``: Newton converges only linearly), or a centre or saddle of an
+    area-preserving map within ``FAMILY_TOL`` of ``tr = +2`` (a family's member, most likely)."""
+    if p.kind == "parabolic":
+        return f"parabolic in float64 (tr within {periodic.PARABOLIC_TOL:g} of +-2: det(P' - I) ~ 0)"
+    if (p.kind in ("centre", "saddle") and abs(p.trace - 2) <= FAMILY_TOL
+            and abs(p.det - 1) <= periodic.AREA_TOL):
+        return (f"tr P' = 2 {p.trace - 2:+.1e} in float64, within {FAMILY_TOL:g} of a family of fixed "
+                f"points' (det(P' - I) ~ 0; FAMILY_TOL)")
+    return None
+
 
 def _proof(label, sc, p, period, seg) -> dict:
     """The Krawczyk proof record of one orbit (``paper.claims.base.prove``), up the
@@ -278,8 +304,9 @@ def _proof(label, sc, p, period, seg) -> dict:
     at the first rung's digits, guides the walks of every rung (``prove_periodic``'s ``points``).
 
     An orbit that ``fast`` finds flip-parabolic (``|tr P' + 2| <= periodic.PARABOLIC_TOL``: Newton
-    converges only linearly) is tried on the first rung alone; one with ``tr P' ~ +2`` is not
-    tried (``SINGULAR``: ``det(P' - I)`` is ~0).  Issue 33: on the frictionless scene ``F=2
+    converges only linearly) is tried on the first rung alone, and so is a centre or saddle of an
+    area-preserving map within ``FAMILY_TOL`` of ``tr = +2`` (:func:`_first_rung_only`); one
+    fast finds parabolic with ``tr P' ~ +2`` is not tried (``SINGULAR``: ``det(P' - I)`` is ~0).  Issue 33: on the frictionless scene ``F=2
     f=0 omega=0.5 l=-1 r=1 wavenumber=2`` 127 of the 138 period-1 points are parabolic (families
     of fixed points), and each failed up the whole ladder in ~32 CPU s (128 bits: 9.9, 320: 21.9);
     ``orbits`` gives its ``max_proofs`` to the other orbits first.  Where Newton diverges
@@ -301,7 +328,8 @@ def _proof(label, sc, p, period, seg) -> dict:
             return prove(label, sc, p.x, p.v, k=period, segment=seg)
         phase, x, v = _section(sc, p.x, p.v, period)
         guide = point_log(sc, x, v, period, phase, PROOF_LADDER[0][0])
-        ladder = PROOF_LADDER[:1] if p.kind == "parabolic" else PROOF_LADDER
+        first_only = _first_rung_only(p)
+        ladder = PROOF_LADDER[:1] if first_only else PROOF_LADDER
         lost, wide, stalled = 0.0, [], False
         for prec, radius in ladder:
             # the last rung is tried unless two measured spreads rule it out (``_spread_at``)
@@ -325,9 +353,8 @@ def _proof(label, sc, p, period, seg) -> dict:
             rec["reason"] += (f" (P' narrowed from {wide[-2][1]:.2g} at {wide[-2][0]} bits to "
                               f"{wide[-1][1]:.2g} at {wide[-1][0]}: at that rate {prec} bits would "
                               f"leave {_spread_at(prec, wide):.2g}; no higher rung is tried)")
-        if ladder is not PROOF_LADDER:
-            rec["reason"] = (f"parabolic in float64 (tr within {periodic.PARABOLIC_TOL:g} of +-2: "
-                             f"det(P' - I) ~ 0), tried at {ladder[0][0]} bits only: {rec['reason']}")
+        if first_only:
+            rec["reason"] = f"{first_only}, tried at {ladder[0][0]} bits only: {rec['reason']}"
         return rec
     except (ValueError, RuntimeError, ArithmeticError) as exc:
         return {"orbit": label, "periods": period, "proved": False, "reason": f"{type(exc).__name__}: {exc}"}
