@@ -4,6 +4,8 @@ search, the one classifier, the area classes.
 Expected values come from the closed forms of reference.paper (the symmetric non-sticking
 solutions and the no-impact attractor), themselves checked in tests/test_paper_formulas.py.
 """
+from types import SimpleNamespace
+
 import mpmath
 import numpy as np
 import pytest
@@ -182,3 +184,80 @@ def test_coarse_search_changes_nothing_without_position_forcing():
     a = A.newton(NARROW := Scene(F=1, f="0.005", omega=1, l=0, r="0.8"), x, v)
     b = A.newton(NARROW, x, v, search_steps=A.SEARCH_STEPS)
     assert np.array_equal(a.x, b.x) and np.array_equal(a.v, b.v) and np.array_equal(a.converged, b.converged)
+
+
+def test_on_family_takes_both_multipliers_near_one_of_an_area_preserving_map_only():
+    """``_on_family``: ``|tr - 2|`` and ``|det - 1|`` both within ``FAMILY_SCREEN``."""
+    e = A.FAMILY_SCREEN
+    J = np.array([[[1.0, 3.0], [0.0, 1.0]],                    # parabolic shear: a family's member
+                  [[1.0 + e / 4, 0.5], [0.0, 1.0 - e / 4]],    # within the screen
+                  [[1.0 + 4 * e, 0.0], [0.0, 1.0]],            # tr 2 + 4e: an isolated point
+                  [[1.0, 0.0], [0.0, 0.5]],                    # det 0.5: a segment, not a family
+                  [[np.nan, 0.0], [0.0, 1.0]]])
+    assert A._on_family(J).tolist() == [True, True, False, False, False]
+
+
+CONSERVATIVE = Scene(F=2, f="0", omega="0.5", l=-1, r=1, wavenumber="2")    # families of fixed points
+
+
+def _spy_newton(monkeypatch, fail_from_ends=False):
+    """Record ``(x, v, engine, result)`` of every ``newton`` run ``_two_stage`` makes; with
+    ``fail_from_ends`` the run from the coarse ends (the second) reports every seed not converged."""
+    calls, plain = [], A.newton
+
+    def spy(scene, x, v, **kw):
+        res = plain(scene, x, v, **kw)
+        if fail_from_ends and len(calls) == 1:
+            res.converged[:] = False
+        kept = SimpleNamespace(**{k: np.array(getattr(res, k)) for k in ("x", "v", "J", "converged")})
+        calls.append((np.array(x, float), np.array(v, float), kw.get("engine"), kept))
+        return res       # (copies kept: _two_stage writes the later runs into the coarse arrays)
+
+    monkeypatch.setattr(A, "newton", spy)
+    return calls
+
+
+def _family_search(monkeypatch, fail_from_ends=False):
+    X, V = A.seed_grid(CONSERVATIVE, (6, 6), (-4.0, 4.0))
+    calls = _spy_newton(monkeypatch, fail_from_ends)
+    res = A._two_stage(CONSERVATIVE, X, V, 1, 1e-11, A.MAX_NEWTON, None, A.SEARCH_STEPS)
+    coarse = calls[0][3]
+    near = np.flatnonzero(coarse.converged)
+    return X, V, calls, res, coarse, near, A._on_family(coarse.J)[near]
+
+
+def test_coarse_search_runs_a_family_seed_from_its_coarse_end(monkeypatch):
+    """``_two_stage`` (``FAMILY_SCREEN``): a seed whose coarse end lies on a family (both multipliers
+    ~1 on the coarse map) runs the default map from that end, the others from the seeds; every
+    point found is a fixed point of the default map to ``tol``, and the points off ``tr = 2`` are
+    those of the search that runs every seed from its seed, bit for bit."""
+    X, V, calls, res, coarse, near, family = _family_search(monkeypatch)
+    assert isinstance(calls[0][2], A._Fast) and calls[1][2] is None
+    assert family.any() and (~family).any()
+    fx, fv = calls[1][:2]
+    assert np.array_equal(fx[family], coarse.x[near][family]) and np.array_equal(fv[family], coarse.v[near][family])
+    assert np.array_equal(fx[~family], X[near][~family]) and np.array_equal(fv[~family], V[near][~family])
+    assert res.converged.any()
+    for x, v in zip(res.x[res.converged], res.v[res.converged]):
+        P, W, _ = A.map_and_jacobian(CONSERVATIVE, [x], [v])
+        assert max(abs(P[0] - x), abs(W[0] - v)) <= 1e-11 * max(1, abs(x), abs(v))
+    kw = dict(period=1, v_range=(-4.0, 4.0), grid=(6, 6), search_steps=A.SEARCH_STEPS)
+    with_screen = A.find_periodic_points(CONSERVATIVE, **kw)
+    monkeypatch.setattr(A, "FAMILY_SCREEN", -1.0)
+    without = A.find_periodic_points(CONSERVATIVE, **kw)
+    off = lambda pts: [(p.x, p.v, p.kind) for p in pts if abs(p.trace - 2) > 1e-8]
+    assert off(with_screen) and off(with_screen) == off(without)
+
+
+def test_coarse_search_runs_a_family_seed_again_from_the_seed_where_its_end_fails(monkeypatch):
+    """A family seed whose run from its coarse end does not converge runs again from the seed (an
+    isolated point near ``tr = 2``: its end misses the default map's fixed point by ``|(P' -
+    I)^-1|`` times the coarse map's error), and that run's result is the seed's."""
+    X, V, calls, res, coarse, near, family = _family_search(monkeypatch, fail_from_ends=True)
+    assert len(calls) == 3 and family.any()
+    again = near[family]
+    ax, av, _, third = calls[2]
+    assert np.array_equal(ax, X[again]) and np.array_equal(av, V[again])
+    assert np.array_equal(res.converged[again], third.converged) and third.converged.any()
+    assert np.array_equal(res.x[again], third.x)
+    assert not res.converged[near[~family]].any()      # the injected failures of the others stay

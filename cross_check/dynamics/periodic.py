@@ -60,6 +60,22 @@ MAX_HALVINGS = 5
 #: coarse run wandered off); on A, B and C the same points, bit for bit.
 SEARCH_STEPS = 32
 SEARCH_TOL = 1e-7
+#: ``_two_stage``: a seed whose coarse end has ``|tr - 2|`` and ``|det - 1|`` within this (the coarse
+#: map's ``J``) most likely ends on a family of fixed points of an area-preserving map, and the
+#: default map runs from that end, not from the seed: a family member is as good as another, and
+#: from the seed Newton crawled along the family's neutral direction.  Where that run does not
+#: converge (an isolated point near ``tr = 2``, whose default-map fixed point the coarse end misses
+#: by ``|(P' - I)^-1|`` times the coarse map's error), the seed runs as alone, as before.  Issue 33,
+#: periods 1 to 3, 16 x 16 seeds, one run: the search on the frictionless corners ``F=3 f=0
+#: omega=0.5 l=-2 r=2 wavenumber=2`` 45.4 -> 28.8 CPU s and ``F=2 f=0 omega=0.5 l=-1 r=1
+#: wavenumber=2`` 27.3 -> 20.1, every point found outside ``verify.tasks.FAMILY_TOL`` the same bit for
+#: bit (the first scene's isolated centre at ``tr = 2 - 3.6e-8`` among them, which the search lost
+#: without the fall-back to the seed); on ``F=1.5 f=0 omega=0.9 l=-0.8 r=0.6 wavenumber=2.2`` and the
+#: issue's first scene without friction the same points, the same time to 0.5 s.  With friction (W,
+#: the issue's first scene, ``F=1 f=0.2 omega=1 l=-1 r=1 wavenumber=1``) no seed ends so.  The
+#: members' coarse ends lie up to ~1e-3 from ``tr = 2`` (the coarse map's error): a wider
+#: screen takes more of them, and more isolated points that then run twice.
+FAMILY_SCREEN = 1e-6
 
 
 class _Fast:
@@ -239,8 +255,9 @@ def _two_stage(scene, x, v, period, tol, max_iter, v_bounds, steps):
     """``newton`` on ``fast``'s coarse map (``steps`` per period) to ``SEARCH_TOL`` screens the
     seeds; the default map then runs the seeds that got there from the seeds themselves, each
     exactly as alone (per-seed ``v_bounds``), so every point found is one that the default
-    search finds from the same seed.  The others are reported not converged, where the screen
-    left them.  (Polishing the screen's points instead kept, on an unseen scene, two points at the
+    search finds from the same seed; but a seed whose coarse end lies on a family of fixed points
+    (``FAMILY_SCREEN``) runs from that end.  The others are reported not converged, where the
+    screen left them.  (Polishing the screen's points instead kept, on an unseen scene, two points at the
     edge of a family of rest states -- a multiplier 2e-7 from 1, residual 8e-12 on a drift too
     slow for the tolerance -- whose proofs then failed up the whole ladder for 22 CPU s.)"""
     x, v = FAST.asarray(x), FAST.asarray(v)
@@ -249,16 +266,38 @@ def _two_stage(scene, x, v, period, tol, max_iter, v_bounds, steps):
     coarse = newton(scene, x, v, period=period, engine=_Fast(steps), tol=max(SEARCH_TOL, tol or 0.0),
                     max_iter=max_iter, v_bounds=(lo, hi))
     near = np.flatnonzero(coarse.converged)
+    start_x, start_v = x.copy(), v.copy()
+    family = coarse.converged & _on_family(coarse.J)
+    start_x[family], start_v[family] = coarse.x[family], coarse.v[family]
     out = NewtonResult(coarse.x, coarse.v, coarse.J, coarse.residual, np.zeros(x.shape, bool),
                        coarse.iterations, coarse.gx, coarse.gv)
     if near.size:
-        fine = newton(scene, x[near], v[near], period=period, tol=tol, max_iter=max_iter,
+        fine = newton(scene, start_x[near], start_v[near], period=period, tol=tol, max_iter=max_iter,
                       v_bounds=(lo[near], hi[near]))
-        for mine, theirs in ((out.x, fine.x), (out.v, fine.v), (out.J, fine.J), (out.residual, fine.residual),
-                             (out.converged, fine.converged), (out.gx, fine.gx), (out.gv, fine.gv)):
-            mine[near] = theirs
-        out.iterations = max(out.iterations, fine.iterations)
+        _merge(out, fine, near)
+        again = near[family[near] & ~fine.converged]     # not from the end: from the seed, as alone
+        if again.size:
+            _merge(out, newton(scene, x[again], v[again], period=period, tol=tol, max_iter=max_iter,
+                               v_bounds=(lo[again], hi[again])), again)
     return out
+
+
+def _merge(out, part, idx):
+    """Write the ``newton`` result ``part`` of the seeds ``idx`` into ``out``."""
+    for mine, theirs in ((out.x, part.x), (out.v, part.v), (out.J, part.J), (out.residual, part.residual),
+                         (out.converged, part.converged), (out.gx, part.gx), (out.gv, part.gv)):
+        mine[idx] = theirs
+    out.iterations = max(out.iterations, part.iterations)
+
+
+def _on_family(J):
+    """Which of a batch of ``J`` (``(n, 2, 2)``) are within ``FAMILY_SCREEN`` of ``tr = 2`` and ``det
+    = 1`` (both multipliers ~1 on an area-preserving map: a family of fixed points, most likely)."""
+    J = np.asarray(J, float)
+    tr = J[:, 0, 0] + J[:, 1, 1]
+    det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
+    with np.errstate(invalid="ignore"):
+        return (np.abs(tr - 2) <= FAMILY_SCREEN) & (np.abs(det - 1) <= FAMILY_SCREEN)
 
 
 class _State:
