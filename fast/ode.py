@@ -515,6 +515,7 @@ def run_state(P, x, v, t_end, jac, max_events, st, wk, ev):
         wk[dp.Y0], wk[dp.Y0 + 1] = x, v
         wk[dp.Y0 + 2], wk[dp.Y0 + 3], wk[dp.Y0 + 4], wk[dp.Y0 + 5] = 1.0, 0.0, 0.0, 1.0
         st[q.TT] = t
+        t_fly, s_fly = t, st[q.S]
         code, k = _fly(P, st, wk, t_end, n, int(min(budget, 2.0 ** 62)))
         steps += k
         if code == TOO_FAST:
@@ -536,6 +537,11 @@ def run_state(P, x, v, t_end, jac, max_events, st, wk, ev):
             v = 0.0
             if mode == CONTACT:
                 x = P[R] if st[q.S] > 0.0 else P[L]
+            elif mode == FLIGHT and P[FF] == 0.0 and t == t_fly:
+                # frictionless rest where the force is zero to rounding (x at a zero of cos(k x)):
+                # the flight's own acceleration turned it back at once, against the sign of the
+                # float64 force; without friction the sign is only the direction watched for v = 0
+                st[q.S] = -s_fly
 
 
 @kernel
