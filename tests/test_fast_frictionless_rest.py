@@ -10,13 +10,20 @@ exceeded".  Without friction that direction only says which sign of ``v`` is wat
 so fast now flies the other way (``fast.ode.run_state``).  Expected values: the reference at
 dps 30 from the same float64 states.
 """
+import math
+from dataclasses import replace
+
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 import fast
 import reference
 from cross_check.tolerances import tol
 from reference.scene import Scene
+from tests.strategies import position_forced_scenes
+from tests.test_ode_accuracy import _assert_within, _check_batch
 
 #: the two scenes of the failed verify runs, with ``x*`` (``k x* + pi/2 == 0.0`` in float64)
 CASES = [
@@ -49,3 +56,24 @@ def test_the_coarse_search_map_runs_there_too(scene, x):
     X, V, J, _ = fast.map_and_jacobian(scene, np.array([x] * 3), np.array([0.0, 1e-17, -1e-17]), steps_per_period=32)
     Xd, Vd = fast.stroboscopic_map(scene, np.array([x] * 3), np.array([0.0, 1e-17, -1e-17]))
     assert np.isfinite(J).all() and np.abs(X - Xd).max() <= 1.2e-9 and np.abs(V - Vd).max() <= 1.2e-9
+
+
+def _rest_on_a_zero(data):
+    """A random position-forced scene without friction, and rest (``v = 0, +-1e-17``) at the
+    float64 nearest one of the zeros ``(n + 1/2) pi / k`` of ``cos(k x)`` in its gap."""
+    scene = replace(data.draw(position_forced_scenes(), label="scene"), f=0)
+    k, l, r = scene.float("wavenumber"), scene.float("l"), scene.float("r")
+    zeros = [z for n in range(-64, 64) for z in [(n + 0.5) * math.pi / k] if l < z < r]
+    assume(zeros)
+    x = data.draw(st.sampled_from(zeros), label="x*")
+    return scene, np.full(3, x), np.array([0.0, 1e-17, -1e-17])
+
+
+@settings(max_examples=4)
+@given(st.data())
+def test_frictionless_rest_on_random_scenes_within_the_conditioning(data):
+    """On random scenes (``tests.strategies.position_forced_scenes`` with ``f = 0``), fast's one
+    period from rest on a zero of the forcing meets the accuracy bound of every position-forced
+    state (``tests/test_ode_accuracy.py``: error over conditioning, events, itinerary)."""
+    scene, x, v = _rest_on_a_zero(data)
+    _assert_within(scene, *_check_batch(scene, x, v))
