@@ -272,8 +272,8 @@ SINGULAR = ("not attempted: parabolic with tr P' ~ +2 in float64 (|tr - 2| <= PA
 
 #: ``|tr P' - 2|`` in float64 within which a centre or saddle of an area-preserving map is tried on
 #: the first rung only, as a parabolic one (``_first_rung_only``): the members of a family of fixed
-#: points, whose ``P' - I`` is singular, scatter this far from 2 in float64 (fast's Newton stops
-#: ``1e-11`` off the family, and its trace carries that off).  Issue 33, the frictionless corners
+#: points, whose ``P' - I`` is singular, scatter this far from 2 in float64 (the traces at points
+#: that fast's Newton leaves up to its ``tol``, 1e-11, off the family).  Issue 33, the frictionless corners
 #: ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2`` and ``F=3 f=0 omega=0.5 l=-2 r=2 wavenumber=2``
 #: (periods 1 to 3, 647 points found): the members' ``|tr - 2|`` run from 1e-15 to 1.3e-9, past
 #: ``PARABOLIC_TOL``; the next point lies at 3.6e-8 (an elliptic centre, ``1 +- 1.9e-4 i``, proved at
@@ -306,7 +306,8 @@ def _proof(label, sc, p, period, seg) -> dict:
     An orbit that ``fast`` finds flip-parabolic (``|tr P' + 2| <= periodic.PARABOLIC_TOL``: Newton
     converges only linearly) is tried on the first rung alone, and so is a centre or saddle of an
     area-preserving map within ``FAMILY_TOL`` of ``tr = +2`` (:func:`_first_rung_only`); one
-    fast finds parabolic with ``tr P' ~ +2`` is not tried (``SINGULAR``: ``det(P' - I)`` is ~0).  Issue 33: on the frictionless scene ``F=2
+    fast finds parabolic with ``tr P' ~ +2`` is not tried (``SINGULAR``: ``det(P' - I)`` is ~0).
+    Issue 33: on the frictionless scene ``F=2
     f=0 omega=0.5 l=-1 r=1 wavenumber=2`` 127 of the 138 period-1 points are parabolic (families
     of fixed points), and each failed up the whole ladder in ~32 CPU s (128 bits: 9.9, 320: 21.9);
     ``orbits`` gives its ``max_proofs`` to the other orbits first.  Where Newton diverges
