@@ -277,7 +277,7 @@ SINGULAR = ("not attempted: parabolic with tr P' ~ +2 in float64 (|tr - 2| <= PA
 #: ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2`` and ``F=3 f=0 omega=0.5 l=-2 r=2 wavenumber=2``
 #: (periods 1 to 3, 647 points found): the members' ``|tr - 2|`` run from 1e-15 to 1.3e-9, past
 #: ``PARABOLIC_TOL``; the next point lies at 3.6e-8 (an elliptic centre, ``1 +- 1.9e-4 i``, proved at
-#: 192 bits).  The eight members between 1e-9 and 1.3e-9 were classed centres: their rungs of 192
+#: 192 bits).  The eight members between 1e-9 and 1.3e-9 were classed centres or saddles: their rungs of 192
 #: and 320 bits failed (``P'`` too wide: at 192 bits ``|(P' - I)^-1|`` ~1e24 once Newton reached
 #: the family, or Newton diverging), ~12 CPU s on the first scene and ~49 on the second.  In the
 #: reports of this issue's sweeps (108 scenes, 1,978 orbits) the proved centres nearest ``tr = 2``
