@@ -242,7 +242,7 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
     monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
-    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a: None)
+    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a, **k: None)
     ladder = [prec for prec, _ in tasks.PROOF_LADDER]
     for residual, tried in ((2.0 ** -11, [64, 128, 192, 320]),      # 53 bits lost: 96's box 2^-48 is out
                             (2.0 ** 40, [64, 320]),                 # 104 bits lost: only 320 remains
@@ -303,7 +303,7 @@ def test_a_near_parabolic_orbit_of_an_area_preserving_map_is_tried_on_the_first_
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": kind, "trace": trace, "det": det})()
     monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
-    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a: None)
+    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a, **k: None)
     calls = []
 
     def fake(label, sc, x, v, k, prec, radius, phase, points, tight):
@@ -333,7 +333,7 @@ def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spreads, t
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
     monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
-    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a: None)
+    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a, **k: None)
     calls = []
 
     def fake(label, sc, x, v, k, prec, radius, phase, points, tight):
@@ -364,7 +364,7 @@ def test_an_orbit_proof_seeds_each_rung_with_the_centre_the_one_below_polished(m
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
     monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
-    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a: None)
+    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a, **k: None)
     seeds, centres = [], {64: ["0.31", "0.21"], 128: ["0.32", "0.22"]}
 
     def fake(label, sc, x, v, k, prec, radius, phase, points, tight):

@@ -178,6 +178,15 @@ def _segments(found, tol):
 #: takes 6.9 (W's period-3 proofs 43.7 -> 23.5 s, one run each).  An orbit that needs 320 pays
 #: the failed 192 rung in addition (its Newton steps; the box is not walked).
 PROOF_LADDER = ((64, 2.0 ** -32), (96, 2.0 ** -48), (128, 2.0 ** -64), (192, 2.0 ** -96), (320, None))
+#: Digits of the point log that guides an orbit's walks (``maps.point_log``'s ``dps``; by
+#: default the first rung's 31).  The walk polishes every event time from the log by Newton
+#: steps before it proves the event (``certify.root``), so the guide needs float64's digits and
+#: a guard, at ``dps^1.5`` the cost (Taylor flights).  Issue 33, the orbits task (periods 1-3,
+#: one run each, two at a time on a loaded 2-core machine): point logs 6.2 -> 3.9 CPU s on the
+#: issue's first scene, 22.0 -> 15.5 on ``F=1.896 f=0.0929 omega=0.806 l=0.04 r=0.64
+#: wavenumber=3.5937 damping=0.369 restitution=0.9`` (orbits 97.7 -> 88.3), and on ``F=2 f=0
+#: omega=0.5 l=-1 r=1 wavenumber=2`` orbits 172.1 -> 161.0; the same orbits proved on all three.
+GUIDE_DPS = 20
 
 
 def _section(sc, x, v, period):
@@ -302,7 +311,7 @@ def _proof(label, sc, p, period, seg) -> dict:
     """The Krawczyk proof record of one orbit (``paper.claims.base.prove``), up the
     ``PROOF_LADDER`` (a segment of no-impact fixed points: ``prove_segment`` at its default); a
     proof that raises is a failed one, with the reason.  One point log, from the section's state
-    at the first rung's digits, guides the walks of every rung (``prove_periodic``'s ``points``).
+    at ``GUIDE_DPS`` digits, guides the walks of every rung (``prove_periodic``'s ``points``).
 
     An orbit that ``fast`` finds flip-parabolic (``|tr P' + 2| <= periodic.PARABOLIC_TOL``: Newton
     converges only linearly) is tried on the first rung alone, and so is a centre or saddle of an
@@ -329,7 +338,7 @@ def _proof(label, sc, p, period, seg) -> dict:
         if seg is not None:
             return prove(label, sc, p.x, p.v, k=period, segment=seg)
         phase, x, v = _section(sc, p.x, p.v, period)
-        guide = point_log(sc, x, v, period, phase, PROOF_LADDER[0][0])
+        guide = point_log(sc, x, v, period, phase, PROOF_LADDER[0][0], dps=GUIDE_DPS)
         first_only = _first_rung_only(p)
         ladder = PROOF_LADDER[:1] if first_only else PROOF_LADDER
         lost, wide, stalled = 0.0, [], False

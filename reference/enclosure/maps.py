@@ -38,6 +38,10 @@ MAX_PREC = 1280
 #: Digits of the point integrator under position forcing: its Taylor flights cost ~dps^1.5,
 #: and the walk needs from it only the itinerary and times that Newton steps then polish.
 POINT_DPS_TAYLOR = 40
+#: The fewest digits a point log may be asked for (``point_log``'s ``dps``): float64's 16 and a
+#: guard of 4, so that the log's itinerary is the one float64 cannot resolve only within ~1e-20
+#: of a grazing event.
+MIN_POINT_DPS = 20
 
 
 @dataclass
@@ -74,21 +78,29 @@ def _ball_model(scene, prec):
     return BallModel(scene)
 
 
-def point_log(scene, x, v, periods, phase, prec):
+def point_log(scene, x, v, periods, phase, prec, dps=None):
     """The point integrator's log of ``Phi^periods`` from ``(x, v)`` (numbers as in
     ``enclose_map``) at ``t = phase T`` with the walls its model held, at the digits
-    ``enclose_map`` takes for ``prec``: ``enclose_map``'s ``points``, e.g. the guide of the walks
-    of a whole orbit proof (``reference.enclosure.orbits.prove_periodic``), or of every rung of one."""
+    ``enclose_map`` takes for ``prec`` (``dps``: at these digits instead, at least
+    ``MIN_POINT_DPS``): ``enclose_map``'s ``points``, e.g. the guide of the walks of a whole
+    orbit proof (``reference.enclosure.orbits.prove_periodic``), or of every rung of one.
+
+    A guide only guides: the walk takes its itinerary and polishes each of its event times by
+    Newton steps on the balls' midpoints (``certify.root``) before it proves the event, so a
+    log good to a few digits past float64 guides a walk of any precision (a guide with another
+    itinerary makes the walk fail, never prove something else)."""
+    if dps is not None:
+        check_count("dps", dps, MIN_POINT_DPS)
     with workprec(prec):
         return _point_log(scene, from_number(x).mid(), from_number(v).mid(), check_phase(phase),
-                          Fraction(periods), prec, MAX_EVENTS)
+                          Fraction(periods), prec, MAX_EVENTS, dps)
 
 
-def _point_log(scene, x, v, phase, periods, prec, max_events):
+def _point_log(scene, x, v, phase, periods, prec, max_events, dps=None):
     """The point integrator's log from ``(x, v)`` (at a box's midpoint parameters); the same
     call again (a proof re-walks one centre on growing boxes) is served from a small cache."""
     point = scene.midpoint() if isinstance(scene, ParamBox) else scene
-    return _cached_point_log(point, _key(x), _key(v), phase, periods, prec, max_events)
+    return _cached_point_log(point, _key(x), _key(v), phase, periods, prec, max_events, dps)
 
 
 def _key(value):
@@ -97,11 +109,12 @@ def _key(value):
 
 
 @lru_cache(maxsize=64)
-def _cached_point_log(scene, x, v, phase, periods, prec, max_events):
+def _cached_point_log(scene, x, v, phase, periods, prec, max_events, dps=None):
     x, v = arb(x), arb(v)
-    dps = int(prec / 3.33) + GUARD_DIGITS
-    if scene.has("position_forcing"):     # Taylor flights: the walk polishes the event times
-        dps = min(dps, POINT_DPS_TAYLOR)
+    if dps is None:
+        dps = int(prec / 3.33) + GUARD_DIGITS
+        if scene.has("position_forcing"):     # Taylor flights: the walk polishes the event times
+            dps = min(dps, POINT_DPS_TAYLOR)
     with mpmath.workdps(dps):
         model = _model_here(scene)
         t0 = model.T * phase.numerator / phase.denominator

@@ -1,0 +1,93 @@
+"""The point log that guides an orbit proof's walks, at ``verify.tasks.GUIDE_DPS`` digits (issue 33).
+
+A guide only guides: each walk takes the log's itinerary, polishes every event time by Newton
+steps on the balls' midpoints and proves the event from the balls (``reference.enclosure.certify``).
+So a log good to float64's digits and a guard guides a proof of any precision, at a fraction of
+the point integrator's cost under position forcing (``tasks.GUIDE_DPS``).  Checked here on the
+period-1 orbits of the issue's first unseen scene (found by ``fast``'s search):
+
+* ``maps.point_log`` runs at the digits asked (its times differ from the default log's past
+  ~1e-23, agree to 1e-18), with the same itinerary, and refuses fewer than ``MIN_POINT_DPS``;
+* ``verify``'s orbit proof asks for a ``GUIDE_DPS`` log, and proves at 64 and at 192 bits the
+  same balls as with the default log;
+* a ``GUIDE_DPS`` log from another orbit misleads the walk, which then proves nothing, and the
+  proof is made again with a log per centre (never a proof of the wrong orbit).
+"""
+from __future__ import annotations
+
+import mpmath
+import pytest
+
+from cross_check.dynamics import periodic
+from cross_check.paper.claims.base import prove
+from cross_check.verify import tasks
+from reference import Scene
+from reference.enclosure import maps, orbits, prove_periodic
+from reference.enclosure.balls import workprec
+
+SCENE = Scene(F=1, f="0.15", omega="1.7", l="-0.4", r="0.9", wavenumber="1.3")
+#: the rungs checked: the first (where most orbits prove) and the one scene Y's centres need
+RUNGS = ((64, 2.0 ** -32), (192, 2.0 ** -96))
+
+
+@pytest.fixture(scope="module")
+def found():
+    """The period-1 orbits of ``SCENE``: ``[(point, (phase, x, v))]``, the section as ``_proof`` takes it."""
+    vmax = tasks.velocity_range(SCENE)
+    points = periodic.find_periodic_points(SCENE, period=1, v_range=(-vmax, vmax), grid=(8, 8),
+                                           search_steps=periodic.SEARCH_STEPS)
+    assert len(points) >= 2, points
+    return [(p, tasks._section(SCENE, p.x, p.v, 1)) for p in points]
+
+
+def test_the_log_runs_at_the_digits_asked_with_the_same_itinerary(found):
+    for _, (phase, x, v) in found:
+        default, walls = maps.point_log(SCENE, x, v, 1, phase, 64)
+        coarse, walls_c = maps.point_log(SCENE, x, v, 1, phase, 64, dps=tasks.GUIDE_DPS)
+        assert [e.kind for e in coarse] == [e.kind for e in default] and len(default) > 0
+        # each log holds the walls at its own digits, and its impacts sit on them (the walk
+        # finds an impact's wall so: ``Walk._wall_side``)
+        for log, held in ((default, walls), (coarse, walls_c)):
+            assert all(e.x in held for e in log if e.kind == "impact")
+        gaps = [abs(a.t - b.t) / abs(b.t) for a, b in zip(coarse, default)]
+        assert max(gaps) < 1e-18, gaps                           # float64's digits and a guard
+        assert max(gaps) > 1e-28, gaps                           # but not the default's 31 digits
+
+
+@pytest.mark.parametrize("dps, error", [(maps.MIN_POINT_DPS - 1, ValueError), (20.0, TypeError),
+                                        (True, TypeError)])
+def test_too_few_digits_are_refused(found, dps, error):
+    _, (phase, x, v) = found[0]
+    with pytest.raises(error, match="dps must be an integer >= 20"):
+        maps.point_log(SCENE, x, v, 1, phase, 64, dps=dps)
+
+
+def test_verify_proves_with_a_guide_dps_log_the_balls_of_the_default_log(found, monkeypatch):
+    asked = []
+    real = maps.point_log
+    monkeypatch.setattr(maps, "point_log", lambda *a, **k: asked.append(k.get("dps")) or real(*a, **k))
+    p, (phase, x, v) = next((p, s) for p, s in found if p.kind == "saddle")
+    rec = tasks._proof("period 1 orbit 0", SCENE, p, 1, None)
+    assert asked == [tasks.GUIDE_DPS] and rec["proved"] and rec["kind"] == "saddle", rec
+    for prec, radius in RUNGS:
+        balls = []
+        for dps in (None, tasks.GUIDE_DPS):
+            guide = real(SCENE, x, v, 1, phase, 64, dps=dps)
+            got = prove("o", SCENE, x, v, k=1, prec=prec, radius=radius, phase=phase, points=guide, tight=False)
+            assert got["proved"], got["reason"]
+            balls.append([(mpmath.mpf(m), r) for m, r in got["point"]])
+        for (m1, r1), (m2, r2) in zip(*balls):          # the same fixed point, to the balls' radii
+            assert abs(m1 - m2) <= r1 + r2 and max(r1, r2) < 2.0 ** -(prec // 2), (prec, balls)
+
+
+def test_a_guide_dps_log_of_another_orbit_proves_nothing_wrong(found):
+    (saddle, (phase, x, v)), (other, (o_phase, ox, oy)) = found[0], found[1]
+    prec = RUNGS[0][0]
+    with workprec(prec):
+        wrong = maps.point_log(SCENE, ox, oy, 1, phase, prec, dps=tasks.GUIDE_DPS)
+        misled = orbits._polished(SCENE, [mpmath.mpf(x), mpmath.mpf(v)], 2.0 ** -32, 1, phase, prec, wrong)
+    assert not misled.proved and orbits.UNCENTRED in misled.reason, misled.reason
+    right = prove_periodic(SCENE, x, v, phase=phase, prec=prec, points=wrong)
+    alone = prove_periodic(SCENE, x, v, phase=phase, prec=prec)
+    assert right.proved and alone.proved, (right.reason, alone.reason)
+    assert all(right.point[i].overlaps(alone.point[i]) for i in range(2))
