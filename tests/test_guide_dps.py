@@ -81,7 +81,7 @@ def test_verify_proves_with_a_guide_dps_log_the_balls_of_the_default_log(found, 
 
 
 def test_a_guide_dps_log_of_another_orbit_proves_nothing_wrong(found):
-    (saddle, (phase, x, v)), (other, (o_phase, ox, oy)) = found[0], found[1]
+    (_, (phase, x, v)), (_, (_, ox, oy)) = found[0], found[1]
     prec = RUNGS[0][0]
     with workprec(prec):
         wrong = maps.point_log(SCENE, ox, oy, 1, phase, prec, dps=tasks.GUIDE_DPS)
