@@ -249,19 +249,6 @@ def _spread_at(prec, wide) -> float:
     return spread * 2.0 ** (-rate * (prec - bits))
 
 
-#: the spread of ``P'`` predicted at a rung (:func:`_spread_at`) from which the rung is skipped
-#: (``_may_hold``).  A spread below 1 at the centre is not enough: Krawczyk's contraction is over
-#: the box, where ``P'`` is wider, and the residual must fit in what is left of it.  Issue 33, the
-#: rungs tried after one measured spread (one run, five position-forced scenes): every one
-#: predicted at 0.16 or more failed -- scene Y's (``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2``)
-#: three period-3 orbits at 128 bits (0.16, 0.30, 0.54: ``|K - z|`` 2 to 22 box radii; 4.4 to
-#: 6.6 CPU s each on a loaded machine) and a period-2 centre of ``F=3 f=0 omega=0.5 l=-2 r=2
-#: wavenumber=2`` at 96 (0.77) -- while of those predicted at 0.0964 or less some held (Y's
-#: period-2 saddles at 0.0151, 0.0159 and 0.0964) and some failed (0.0245, 0.0312).  A skipped
-#: rung costs only time: the rungs above it are still tried (the last unless ``stalled``).
-SPREAD_TRY = 0.125
-
-
 def _may_hold(prec, radius, lost, wide=()) -> bool:
     """Whether a rung of ``PROOF_LADDER`` may hold after a lower one lost ``lost`` bits: its
     residual ``~2^(lost - prec)`` must be within ``RESIDUAL_SLACK`` times the ``2 r`` that the
@@ -271,12 +258,12 @@ def _may_hold(prec, radius, lost, wide=()) -> bool:
 
     ``wide``: the ``(bits, spread)`` of the lower rungs that found ``P'`` too wide for any
     Krawczyk box (``reference.enclosure.orbits._spread``, ``spread >= 1``); a rung where the
-    spread predicted by :func:`_spread_at` is still ``SPREAD_TRY`` or more is skipped.  Issue 33, period-3
+    spread predicted by :func:`_spread_at` is still 1 or more is skipped.  Issue 33, period-3
     orbits of the frictionless corner (51 events): spreads 6e9, 6.5e4 and 1.2 at 64, 96 and
     128 bits (the model says 9e4 and 1.4 from 64), and 192 proves; each failed rung was a
     whole walk."""
     r = 2.0 ** -(prec // 3) if radius is None else radius
-    if wide and _spread_at(prec, wide) >= SPREAD_TRY:
+    if wide and _spread_at(prec, wide) >= 1:
         return False
     return 2.0 ** (lost - prec) <= RESIDUAL_SLACK * 2 * r
 
