@@ -39,8 +39,8 @@ MAX_PREC = 1280
 #: and the walk needs from it only the itinerary and times that Newton steps then polish.
 POINT_DPS_TAYLOR = 40
 #: The fewest digits a point log may be asked for (``point_log``'s ``dps``): float64's 16 and a
-#: guard of 4, so that the log's itinerary is the one float64 cannot resolve only within ~1e-20
-#: of a grazing event.
+#: guard of 4.  Its itinerary can then differ from the exact one only at an event within ~1e-20
+#: of grazing, where a walk it guides fails (and never proves another itinerary).
 MIN_POINT_DPS = 20
 
 
