@@ -23,6 +23,16 @@ class ClusterError(ValueError):
 CONNECT_TIMEOUT = "20s"
 #: the bound on ``--workers`` (a local cluster larger than this is a typo)
 MAX_WORKERS = 256
+#: Dask settings of the local clusters made here.  Dask's statistical profiler is off: in every
+#: worker it samples the running task's stack every 10 ms (and the event loop's), for the
+#: dashboard's profile page, which these commands never serve, and the sampling thread takes the
+#: GIL from the task each time.  Issue 33, the issue's first scene (``F=1 f=0.15 omega=1.7 l=-0.4
+#: r=0.9 wavenumber=1.3``) on a loaded 2-core machine: its period-2 orbits task in a one-worker
+#: cluster took 5.94 CPU s with the profiler and 5.55 without (means of six runs each, alternating;
+#: 4.90 in a plain process), and a whole ``verify`` 55.5 and 51.3 CPU s (means of three).  A
+#: cluster given by ``--scheduler`` keeps its own settings (``DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED
+#: =False`` in the workers' environment does the same there).
+LOCAL_CONFIG = {"distributed.worker.profile.enabled": False}
 
 
 def check_workers(workers) -> int:
@@ -37,8 +47,8 @@ def check_workers(workers) -> int:
 @contextlib.contextmanager
 def client(scheduler=None, workers=2, *, given=None):
     """A ``distributed.Client``: ``given`` as it is (not closed here), else one on ``scheduler``,
-    else one on a new ``LocalCluster(n_workers=workers, threads_per_worker=1)``; the ones made
-    here are closed on exit."""
+    else one on a new ``LocalCluster(n_workers=workers, threads_per_worker=1)`` with the settings
+    ``LOCAL_CONFIG``; the ones made here are closed on exit."""
     if given is not None:
         yield given
         return
@@ -55,8 +65,13 @@ def client(scheduler=None, workers=2, *, given=None):
         with own:
             yield own
         return
-    with LocalCluster(n_workers=check_workers(workers), threads_per_worker=1, processes=True,
-                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, Client(cluster) as own:
+    import dask
+
+    n = check_workers(workers)
+    with dask.config.set(LOCAL_CONFIG):         # the workers take it at their start; nothing else here
+        local = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                             silence_logs=logging.ERROR)
+    with local, Client(local) as own:
         yield own
 
 

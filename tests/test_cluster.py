@@ -54,3 +54,23 @@ def test_verify_on_an_unreachable_scheduler_exits_2_naming_it(monkeypatch, tmp_p
         assert run.main(["--scene", "F=1 f=0.3 omega=1 l=0 r=3", "--quick", "--scheduler", address,
                          "--out", str(tmp_path)]) == 2
     assert f"cannot reach the dask scheduler at '{address}'" in capsys.readouterr().err
+
+
+def test_the_local_workers_run_without_dask_s_sampling_profiler(client):
+    """``LOCAL_CONFIG``: the workers of a cluster made here take no stack samples (no ``profile``
+    periodic callback, the setting off in their own config), while a worker made with Dask's
+    defaults meanwhile does (the check can fail, and the setting does not leak into the caller's
+    process)."""
+    import dask
+
+    def sampling(dask_worker):
+        return ("profile" in dask_worker.periodic_callbacks,
+                dask.config.get("distributed.worker.profile.enabled"))
+
+    assert set(client.run(sampling).values()) == {(False, False)}
+    assert cluster.LOCAL_CONFIG == {"distributed.worker.profile.enabled": False}
+    from distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as plain, \
+            Client(plain) as other:
+        assert set(other.run(sampling).values()) == {(True, True)}
