@@ -164,15 +164,17 @@ XPOT_D = Scene(F=3, f="0.5", omega="0.8", l=-2, r="1.5", wavenumber="2.5")   # i
 
 
 def test_coarse_search_screens_seeds_and_the_default_map_finds_the_points():
-    """``search_steps``: the coarse map screens the seeds and the default map runs those that pass,
-    from the seeds: every point found is a fixed point of the default map to ``tol`` and is the
-    very point (bit for bit) that the search without a screen finds (on D's 8 x 8 grid, all of
-    them).  Points polished from the screen's own ends differ in their last bits."""
-    vmax = 3.0
-    kw = dict(period=1, v_range=(-vmax, vmax), grid=(8, 8))
+    """``search_steps``: the coarse map screens the seeds and the default map polishes the ends of
+    those that pass: every point found is a fixed point of the default map to ``tol``, and the
+    points are those that the search without a screen finds (on D's 8 x 8 grid, all of them, each
+    within the search's own ``dedup`` distance of its twin, the same kind)."""
+    vmax, dedup = 3.0, 1e-7
+    kw = dict(period=1, v_range=(-vmax, vmax), grid=(8, 8), dedup=dedup)
     plain = A.find_periodic_points(XPOT_D, **kw)
     found = A.find_periodic_points(XPOT_D, search_steps=A.SEARCH_STEPS, **kw)
-    assert found and [(p.x, p.v, p.kind) for p in found] == [(p.x, p.v, p.kind) for p in plain]
+    assert found and len(found) == len(plain)
+    for p, q in zip(found, plain):
+        assert max(abs(p.x - q.x), abs(p.v - q.v)) <= dedup and p.kind == q.kind
     for p in found:
         X, V, _ = A.map_and_jacobian(XPOT_D, [p.x], [p.v])
         assert max(abs(X[0] - p.x), abs(V[0] - p.v)) <= 1e-11 * max(1, abs(p.x), abs(p.v))
@@ -226,17 +228,23 @@ def _family_search(monkeypatch, fail_from_ends=False):
     return X, V, calls, res, coarse, near, A._on_family(coarse.J)[near]
 
 
-def test_coarse_search_runs_a_family_seed_from_its_coarse_end(monkeypatch):
-    """``_two_stage`` (``FAMILY_SCREEN``): a seed whose coarse end lies on a family (both multipliers
-    ~1 on the coarse map) runs the default map from that end, the others from the seeds; every
-    point found is a fixed point of the default map to ``tol``, and the points off ``tr = 2`` are
-    those of the search that runs every seed from its seed, bit for bit."""
+def test_coarse_search_runs_the_default_map_from_the_coarse_ends(monkeypatch):
+    """``_two_stage``: the default map runs from the coarse ends of the seeds that pass the screen
+    (a family's members and the others); every point found is a fixed point of the default map to
+    ``tol``; the ends it polishes to a multiplier within ``NEAR_ONE`` of 1 off a family run again
+    from their seeds; and the points off ``tr = 2`` do not depend on ``FAMILY_SCREEN``, bit for bit
+    (without it a family's members run again from their seeds)."""
     X, V, calls, res, coarse, near, family = _family_search(monkeypatch)
     assert isinstance(calls[0][2], A._Fast) and calls[1][2] is None
     assert family.any() and (~family).any()
     fx, fv = calls[1][:2]
-    assert np.array_equal(fx[family], coarse.x[near][family]) and np.array_equal(fv[family], coarse.v[near][family])
-    assert np.array_equal(fx[~family], X[near][~family]) and np.array_equal(fv[~family], V[near][~family])
+    assert np.array_equal(fx, coarse.x[near]) and np.array_equal(fv, coarse.v[near])
+    fine = calls[1][3]
+    redo = near[~fine.converged | (A._near_one(fine.J) & ~family)]
+    if redo.size:
+        assert len(calls) == 3 and np.array_equal(calls[2][0], X[redo]) and np.array_equal(calls[2][1], V[redo])
+    else:
+        assert len(calls) == 2
     assert res.converged.any()
     for x, v in zip(res.x[res.converged], res.v[res.converged]):
         P, W, _ = A.map_and_jacobian(CONSERVATIVE, [x], [v])
@@ -249,15 +257,47 @@ def test_coarse_search_runs_a_family_seed_from_its_coarse_end(monkeypatch):
     assert off(with_screen) and off(with_screen) == off(without)
 
 
-def test_coarse_search_runs_a_family_seed_again_from_the_seed_where_its_end_fails(monkeypatch):
-    """A family seed whose run from its coarse end does not converge runs again from the seed (an
+def test_near_one_takes_a_multiplier_within_near_one_of_one():
+    """``_near_one``: either multiplier within ``NEAR_ONE`` of 1; a non-finite ``J`` is not."""
+    e = A.NEAR_ONE
+    J = np.array([[[1.0, 3.0], [0.0, 1.0]],                    # parabolic shear
+                  [[1.0 - e / 2, 0.0], [0.0, 0.2]],            # a rest state's family direction
+                  [[0.2, 0.0], [0.0, 1.0 + e / 2]],            # the other multiplier
+                  [[1.0 + 2 * e, 0.0], [0.0, 0.2]],            # 2 NEAR_ONE away
+                  [[0.0, -1.0], [1.0, 0.0]],                   # multipliers +-i
+                  [[np.nan, 0.0], [0.0, 1.0]]])
+    assert A._near_one(J).tolist() == [True, True, True, False, False, False]
+
+
+def test_coarse_search_runs_an_end_polished_near_one_again_from_the_seed(monkeypatch):
+    """On scene D (rest states: a multiplier 1 along their families) the ends that the default map
+    polishes to a multiplier within ``NEAR_ONE`` of 1 run again from their seeds with those whose
+    end fails, and those results are the seeds'; with ``NEAR_ONE`` below 0 only the failed ones do
+    (the check can fail)."""
+    X, V = A.seed_grid(XPOT_D, (6, 6), (-3.0, 3.0))
+    for near_one in (A.NEAR_ONE, -1.0):
+        with monkeypatch.context() as m:
+            m.setattr(A, "NEAR_ONE", near_one)
+            calls = _spy_newton(m)
+            res = A._two_stage(XPOT_D, X, V, 1, 1e-11, A.MAX_NEWTON, None, A.SEARCH_STEPS)
+        coarse, fine = calls[0][3], calls[1][3]
+        near = np.flatnonzero(coarse.converged)
+        family = A._on_family(coarse.J[near])
+        polished_near_one = fine.converged & A._near_one(fine.J) & ~family      # at the default NEAR_ONE
+        assert not family.any() and polished_near_one.any()
+        again = near[~fine.converged | (polished_near_one if near_one > 0 else False)]
+        assert len(calls) == 3 and np.array_equal(calls[2][0], X[again]) and np.array_equal(calls[2][1], V[again])
+        third = calls[2][3]
+        assert np.array_equal(res.converged[again], third.converged) and np.array_equal(res.x[again], third.x)
+
+
+def test_coarse_search_runs_a_seed_again_from_the_seed_where_its_end_fails(monkeypatch):
+    """A seed whose run from its coarse end does not converge runs again from the seed (an
     isolated point near ``tr = 2``: its end misses the default map's fixed point by ``|(P' -
     I)^-1|`` times the coarse map's error), and that run's result is the seed's."""
     X, V, calls, res, coarse, near, family = _family_search(monkeypatch, fail_from_ends=True)
-    assert len(calls) == 3 and family.any()
-    again = near[family]
+    assert len(calls) == 3 and family.any() and (~family).any()
     ax, av, _, third = calls[2]
-    assert np.array_equal(ax, X[again]) and np.array_equal(av, V[again])
-    assert np.array_equal(res.converged[again], third.converged) and third.converged.any()
-    assert np.array_equal(res.x[again], third.x)
-    assert not res.converged[near[~family]].any()      # the injected failures of the others stay
+    assert np.array_equal(ax, X[near]) and np.array_equal(av, V[near])
+    assert np.array_equal(res.converged[near], third.converged) and third.converged.any()
+    assert np.array_equal(res.x[near], third.x)

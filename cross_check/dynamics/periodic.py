@@ -57,7 +57,8 @@ MAX_HALVINGS = 5
 #: 3, one run): on D (``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``) 8.8 -> 3.6 CPU s, the same
 #: 24 points bit for bit; on F (``F=1 f=0.2 omega=1 l=-1 r=1 wavenumber=1``) 2.4 -> 1.5 s, 30 of
 #: its 31 points (one period-3 orbit was reached by a single seed, 1 of 129 that converge, whose
-#: coarse run wandered off); on A, B and C the same points, bit for bit.
+#: coarse run wandered off); on A, B and C the same points, bit for bit (that pass ran the default
+#: map from the seeds; it now polishes the screen's ends: ``NEAR_ONE``).
 SEARCH_STEPS = 32
 SEARCH_TOL = 1e-7
 #: ``_two_stage``: a seed whose coarse end has ``|tr - 2|`` and ``|det - 1|`` within this (the coarse
@@ -76,6 +77,19 @@ SEARCH_TOL = 1e-7
 #: members' coarse ends lie up to ~1e-3 from ``tr = 2`` (the coarse map's error): a wider
 #: screen takes more of them, and more isolated points that then run twice.
 FAMILY_SCREEN = 1e-6
+#: ``_two_stage``: a seed whose coarse end the default map polishes to a point with a multiplier
+#: within this of 1 (off a family of an area-preserving map) runs again from the seed, as the search
+#: without a screen runs it.  Issue 33, scene D (``F=3 f=0.5 omega=0.8 l=-2 r=1.5 wavenumber=2.5``):
+#: 149 of the 269 coarse ends of periods 1 to 3 polish to rest states (a multiplier 1 along their
+#: family); polished from the ends, two at the family's edge (a multiplier 2e-7 from 1, a residual
+#: of 8e-12 on a drift) passed for fixed points, and their proofs failed up the whole ladder for
+#: 22 CPU s.  With the fall-back D finds the points of the search from the seeds (17, 5 and 2 of
+#: periods 1 to 3, within 1e-8), its search 10.8 -> 8.1 CPU s; the issue's first scene 5.1 -> 2.4 (the
+#: same 34 points), ``F=1.896 f=0.0929 omega=0.806 l=0.04 r=0.64 wavenumber=3.5937 damping=0.369
+#: restitution=0.9`` 16.0 -> 7.6 (the same 20 and 12 points of periods 1 and 2; of period 3, 16 of
+#: 19 the same and three other saddles: a seed's coarse end and its default-map path from the seed
+#: may reach different orbits); one run each, on a loaded 2-core machine.
+NEAR_ONE = 1e-4
 
 
 class _Fast:
@@ -220,8 +234,8 @@ def newton(scene, x, v, *, period=1, engine=FAST, tol=None, max_iter=MAX_NEWTON,
     accepted trial is kept for the next step).
 
     ``search_steps`` (``FAST`` under position forcing; else ignored): screen the seeds on the
-    coarse map of ``fast``'s ``steps_per_period = search_steps`` (down to ``SEARCH_TOL``), then run
-    those that got there on the default map (``_two_stage``).
+    coarse map of ``fast``'s ``steps_per_period = search_steps`` (down to ``SEARCH_TOL``), then
+    polish the ends of those that got there on the default map (``_two_stage``).
     """
     if not (isinstance(period, int) and period >= 1):
         raise ValueError(f"period must be a positive int, got {period!r}")
@@ -253,29 +267,30 @@ def _default_v_bounds(scene, v):
 
 def _two_stage(scene, x, v, period, tol, max_iter, v_bounds, steps):
     """``newton`` on ``fast``'s coarse map (``steps`` per period) to ``SEARCH_TOL`` screens the
-    seeds; the default map then runs the seeds that got there from the seeds themselves, each
-    exactly as alone (per-seed ``v_bounds``), so every point found is one that the default
-    search finds from the same seed; but a seed whose coarse end lies on a family of fixed points
-    (``FAMILY_SCREEN``) runs from that end.  The others are reported not converged, where the
-    screen left them.  (Polishing the screen's points instead kept, on an unseen scene, two points at the
-    edge of a family of rest states -- a multiplier 2e-7 from 1, residual 8e-12 on a drift too
-    slow for the tolerance -- whose proofs then failed up the whole ladder for 22 CPU s.)"""
+    seeds; the default map then polishes the coarse ends of the seeds that got there, each
+    exactly as alone (per-seed ``v_bounds``).  From the seed instead, as alone (the default map's
+    whole Newton path, as the search without a screen runs it): a seed whose run from its end does
+    not converge -- an isolated point near ``tr = 2`` whose coarse end misses the default map's
+    fixed point by ``|(P' - I)^-1|`` times the coarse map's error -- and one whose end converges
+    to a point with a multiplier within ``NEAR_ONE`` of 1 off a family of an area-preserving map
+    (``_on_family`` of the coarse ``J``): the edge of a family of rest states, where a drift too
+    slow for the tolerance passes for a fixed point.  The others are reported not converged,
+    where the screen left them.  Issue 33: the default map ran every seed from the seed before, ~10
+    iterations with their line searches where a coarse end takes one or two (``NEAR_ONE``)."""
     x, v = FAST.asarray(x), FAST.asarray(v)
     bounds = v_bounds if v_bounds is not None else _default_v_bounds(scene, v)
     lo, hi = (np.broadcast_to(np.asarray(b, float), x.shape) for b in bounds)
     coarse = newton(scene, x, v, period=period, engine=_Fast(steps), tol=max(SEARCH_TOL, tol or 0.0),
                     max_iter=max_iter, v_bounds=(lo, hi))
     near = np.flatnonzero(coarse.converged)
-    start_x, start_v = x.copy(), v.copy()
-    family = coarse.converged & _on_family(coarse.J)
-    start_x[family], start_v[family] = coarse.x[family], coarse.v[family]
     out = NewtonResult(coarse.x, coarse.v, coarse.J, coarse.residual, np.zeros(x.shape, bool),
                        coarse.iterations, coarse.gx, coarse.gv)
     if near.size:
-        fine = newton(scene, start_x[near], start_v[near], period=period, tol=tol, max_iter=max_iter,
-                      v_bounds=(lo[near], hi[near]))
+        family = _on_family(coarse.J[near])
+        fine = newton(scene, coarse.x[near].copy(), coarse.v[near].copy(), period=period, tol=tol,
+                      max_iter=max_iter, v_bounds=(lo[near], hi[near]))
         _merge(out, fine, near)
-        again = near[family[near] & ~fine.converged]     # not from the end: from the seed, as alone
+        again = near[~fine.converged | (_near_one(fine.J) & ~family)]
         if again.size:
             _merge(out, newton(scene, x[again], v[again], period=period, tol=tol, max_iter=max_iter,
                                v_bounds=(lo[again], hi[again])), again)
@@ -298,6 +313,15 @@ def _on_family(J):
     det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
     with np.errstate(invalid="ignore"):
         return (np.abs(tr - 2) <= FAMILY_SCREEN) & (np.abs(det - 1) <= FAMILY_SCREEN)
+
+
+def _near_one(J):
+    """Which of a batch of ``J`` (``(n, 2, 2)``) have a multiplier within ``NEAR_ONE`` of 1 (a
+    non-finite ``J``: False)."""
+    J = np.asarray(J, float)
+    finite = np.isfinite(J).all(axis=(-1, -2))
+    mu = np.linalg.eigvals(np.where(finite[:, None, None], J, 0.0))
+    return finite & (np.abs(mu - 1) <= NEAR_ONE).any(axis=-1)
 
 
 class _State:
