@@ -91,3 +91,44 @@ def test_a_guide_dps_log_of_another_orbit_proves_nothing_wrong(found):
     alone = prove_periodic(SCENE, x, v, phase=phase, prec=prec)
     assert right.proved and alone.proved, (right.reason, alone.reason)
     assert all(right.point[i].overlaps(alone.point[i]) for i in range(2))
+
+
+#: the strongly damped narrow scene of issue 33 and a period-2 saddle of it (``tr P' = -43.6``),
+#: the first point fast's search finds (16 x 16 seeds), here to six digits: Newton polishes it
+D1 = "F=1.896 f=0.0929 omega=0.806 l=0.04 r=0.64 wavenumber=3.5937 damping=0.369 restitution=0.9"
+D1_SADDLE = (0.350284, 0.031347)
+
+
+def test_the_first_rung_s_box_proves_at_64_bits_what_a_box_of_2_to_the_minus_32_left_to_96(monkeypatch):
+    """``tasks.PROOF_LADDER``: the first rung's box (``2^-40``) proves this saddle at 64 bits; with
+    the box of before (``2^-32``) the 64-bit test fails (``P'`` varies too much over the box) and
+    96 bits prove it, the same orbit."""
+    import fast
+    from cross_check import scenefile
+
+    sc = scenefile.collect([], [D1], check=fast.validate_scene)[0]
+    res = periodic.newton(sc, [D1_SADDLE[0]], [D1_SADDLE[1]], period=2)
+    assert res.converged[0]
+    p = periodic.periodic_point(sc, float(res.x[0]), float(res.v[0]), 2)
+    assert p.kind == "saddle"
+    real, log = tasks.prove, []
+
+    def spy(*a, **kw):
+        rec = real(*a, **kw)
+        log.append((kw["prec"], kw["radius"], rec["proved"]))
+        return rec
+
+    monkeypatch.setattr(tasks, "prove", spy)
+    assert tasks.PROOF_LADDER[0] == (64, 2.0 ** -40)
+    balls = []
+    for first in (tasks.PROOF_LADDER[0], (64, 2.0 ** -32)):
+        monkeypatch.setattr(tasks, "PROOF_LADDER", (first,) + tasks.PROOF_LADDER[1:])
+        log.clear()
+        rec = tasks._proof("o", sc, p, 2, None)
+        assert rec["proved"]
+        balls.append(rec)
+        assert log == ([(64, 2.0 ** -40, True)] if first[1] == 2.0 ** -40 else
+                       [(64, 2.0 ** -32, False), (96, 2.0 ** -48, True)])
+    assert balls[0]["itinerary"] == balls[1]["itinerary"] and balls[0]["kind"] == balls[1]["kind"] == "saddle"
+    for (m0, r0), (m1, r1) in zip(balls[0]["point"], balls[1]["point"]):    # [mid, radius] balls
+        assert abs(mpmath.mpf(m0) - mpmath.mpf(m1)) <= r0 + r1                  # that overlap

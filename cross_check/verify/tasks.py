@@ -177,7 +177,16 @@ def _segments(found, tol):
 #: saddles (multipliers 1179 and 107) fail up to 128 and took 17 CPU s each at 320; at 192 each
 #: takes 6.9 (W's period-3 proofs 43.7 -> 23.5 s, one run each).  An orbit that needs 320 pays
 #: the failed 192 rung in addition (its Newton steps; the box is not walked).
-PROOF_LADDER = ((64, 2.0 ** -32), (96, 2.0 ** -48), (128, 2.0 ** -64), (192, 2.0 ** -96), (320, None))
+#: Fourth pass: the first rung's box is ``2^-40``, not ``2^-32``.  The box must hold the fixed
+#: point that 64 bits polish (``2^(lost - 64)``: ``_may_hold``) and be small enough that ``P'``
+#: varies little over it; at ``2^-32`` the second was what failed most (``K(Z)`` not inside ``Z``
+#: after a whole walk of the box, then 96 bits proved).  Issue 33, one run each, the same orbits
+#: proved: ``F=1.896 f=0.0929 omega=0.806 l=0.04 r=0.64 wavenumber=3.5937 damping=0.369
+#: restitution=0.9``, period 2: 17.5 -> 7.8 CPU s (at 64 bits 6 -> 11 of its 12 orbits; ``2^-44``:
+#: 10.3), period 3: 46.0 -> 36.7; ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2``, period 2: 24.6 -> 19.1,
+#: period 3: 70.1 -> 58.1 (at 64 bits 4 -> 6); the issue's first scene, period 2: 2.8 -> 1.9, periods
+#: 1 and 3 the same to 0.2 s.
+PROOF_LADDER = ((64, 2.0 ** -40), (96, 2.0 ** -48), (128, 2.0 ** -64), (192, 2.0 ** -96), (320, None))
 #: Digits of the point log that guides an orbit's walks (``maps.point_log``'s ``dps``; by
 #: default the first rung's 31).  The walk polishes every event time from the log by Newton
 #: steps before it proves the event (``certify.root``), so the guide needs float64's digits and
@@ -272,7 +281,8 @@ def _may_hold(prec, radius, lost, wide=()) -> bool:
 #: the reason of an orbit not attempted because ``P' - I`` is singular in float64: ``tr P'`` within
 #: ``periodic.PARABOLIC_TOL`` of +2 and ``det P'`` within ``claim_unit_det`` of 1 give
 #: ``|det(P' - I)| = |det - tr + 1| <= 2e-9``, so ``C = (P' - I)^-1`` is at least ~5e8 and the first
-#: rung's box (``2^-32``) cannot contract: ``C`` times the spread of ``P'`` over it is ~1.  Issue 33:
+#: rung's box (``2^-32`` when this was measured) could not contract: ``C`` times the spread of ``P'``
+#: over it was ~1.  Issue 33:
 #: on the frictionless far corner ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2`` (families of fixed
 #: points) the 16 such attempts took 10.2 of the orbits' ~105 CPU s; in the reports of this issue's
 #: sweeps none of 936 parabolic points was ever proved.  A flip-parabolic point (``tr ~ -2``:
