@@ -101,8 +101,8 @@ D1_SADDLE = (0.350284, 0.031347)
 
 def test_the_first_rung_s_box_proves_at_64_bits_what_a_box_of_2_to_the_minus_32_left_to_96(monkeypatch):
     """``tasks.PROOF_LADDER``: the first rung's box (``2^-40``) proves this saddle at 64 bits; with
-    the box of before (``2^-32``) the 64-bit test fails (``P'`` varies too much over the box) and
-    96 bits prove it, the same orbit."""
+    the ladder of before (radii ``2^-(prec/2)``) the 64-bit test fails (``P'`` varies too much over
+    the box of ``2^-32``) and 96 bits prove it, the same orbit."""
     import fast
     from cross_check import scenefile
 
@@ -120,15 +120,28 @@ def test_the_first_rung_s_box_proves_at_64_bits_what_a_box_of_2_to_the_minus_32_
 
     monkeypatch.setattr(tasks, "prove", spy)
     assert tasks.PROOF_LADDER[0] == (64, 2.0 ** -40)
+    before = tuple((prec, 2.0 ** -(prec // 2)) for prec in (64, 96, 128, 192)) + ((320, None),)
     balls = []
-    for first in (tasks.PROOF_LADDER[0], (64, 2.0 ** -32)):
-        monkeypatch.setattr(tasks, "PROOF_LADDER", (first,) + tasks.PROOF_LADDER[1:])
+    for ladder, tried in ((tasks.PROOF_LADDER, [(64, 2.0 ** -40, True)]),
+                          (before, [(64, 2.0 ** -32, False), (96, 2.0 ** -48, True)])):
+        monkeypatch.setattr(tasks, "PROOF_LADDER", ladder)
         log.clear()
         rec = tasks._proof("o", sc, p, 2, None)
-        assert rec["proved"]
+        assert rec["proved"] and log == tried
         balls.append(rec)
-        assert log == ([(64, 2.0 ** -40, True)] if first[1] == 2.0 ** -40 else
-                       [(64, 2.0 ** -32, False), (96, 2.0 ** -48, True)])
     assert balls[0]["itinerary"] == balls[1]["itinerary"] and balls[0]["kind"] == balls[1]["kind"] == "saddle"
     for (m0, r0), (m1, r1) in zip(balls[0]["point"], balls[1]["point"]):    # [mid, radius] balls
         assert abs(mpmath.mpf(m0) - mpmath.mpf(m1)) <= r0 + r1                  # that overlap
+
+
+def test_a_rung_s_box_is_widened_to_fit_a_measured_loss():
+    """``tasks._fitted``: the ladder's radius without a measured loss; four times the residual
+    ``2^(lost - prec)`` a loss predicts where that is wider; never past ``2^-(prec // 2)`` (then
+    ``_may_hold`` decides as before the fourth pass); the last rung's ``None`` stays."""
+    assert tasks._fitted(128, 2.0 ** -80, 0.0) == 2.0 ** -80
+    assert tasks._fitted(128, 2.0 ** -80, 53.0) == 2.0 ** -73             # scene D's period 3
+    assert tasks._fitted(96, 2.0 ** -60, 53.0) == 2.0 ** -48              # capped: 96 is then skipped
+    assert tasks._may_hold(96, tasks._fitted(96, 2.0 ** -60, 53.0), 53.0) is False
+    assert tasks._may_hold(128, tasks._fitted(128, 2.0 ** -80, 53.0), 53.0) is True
+    assert tasks._may_hold(128, 2.0 ** -80, 53.0) is False                # unfitted, 128 would be
+    assert tasks._fitted(320, None, 53.0) is None
