@@ -177,20 +177,17 @@ def _segments(found, tol):
 #: saddles (multipliers 1179 and 107) fail up to 128 and took 17 CPU s each at 320; at 192 each
 #: takes 6.9 (W's period-3 proofs 43.7 -> 23.5 s, one run each).  An orbit that needs 320 pays
 #: the failed 192 rung in addition (its Newton steps; the box is not walked).
-#: Fourth pass: the first rung's box is ``2^-40``, not ``2^-32``.  The box must hold the fixed
-#: point that 64 bits polish (``2^(lost - 64)``: ``_may_hold``) and be small enough that ``P'``
-#: varies little over it; at ``2^-32`` the second was what failed most (``K(Z)`` not inside ``Z``
-#: after a whole walk of the box, then 96 bits proved).  Issue 33, one run each, the same orbits
-#: proved: ``F=1.896 f=0.0929 omega=0.806 l=0.04 r=0.64 wavenumber=3.5937 damping=0.369
-#: restitution=0.9``, period 2: 17.5 -> 7.8 CPU s (at 64 bits 6 -> 11 of its 12 orbits; ``2^-44``:
-#: 10.3), period 3: 46.0 -> 36.7; ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2``, period 2: 24.6 -> 19.1,
-#: period 3: 70.1 -> 58.1 (at 64 bits 4 -> 6); the issue's first scene, period 2: 2.8 -> 1.9, periods
-#: 1 and 3 the same to 0.2 s.
-#: The same holds on every rung: radii ``2^-(5/8 prec)`` instead of ``2^-(prec/2)``, widened to fit
-#: a loss measured on a lower rung (:func:`_fitted`).  One run each, the same orbits proved:
-#: scene Y's period 2 21.7 -> 14.8 CPU s (three orbits proved at 96 bits instead of 128), its period
-#: 3 70.4 -> 47.1 (three at 128 instead of 192); d1's period 3 51.2 -> 42.3.  Radii of ``2^-(2/3
-#: prec)`` (``2^-64, 2^-88, 2^-136`` above 64 bits) did about as well (12.1, 48.9, 40.2 s).
+#: Fourth pass: radii ``2^-(5/8 prec)``, not ``2^-(prec/2)``, widened to fit a loss measured on a
+#: lower rung (:func:`_fitted`).  The box must hold the fixed point that the rung polishes
+#: (``2^(lost - prec)``: ``_may_hold``) and be small enough that ``P'`` varies little over it; at
+#: ``2^-32`` the 64-bit rung failed mostly on the second (``K(Z)`` not inside ``Z`` after a whole
+#: walk of the box), and 96 bits then proved the orbit.  Issue 33, the orbits task (periods 1 to 3,
+#: the two ladders alternately in one process, caches cleared, on a loaded 2-core machine): ``F=2
+#: f=0 omega=0.5 l=-1 r=1 wavenumber=2`` 172.7 -> 147.3 CPU s; ``F=1.896 f=0.0929 omega=0.806 l=0.04
+#: r=0.64 wavenumber=3.5937 damping=0.369 restitution=0.9`` 92.7, 89.3 -> 88.5, 82.0 (29 of its 44
+#: orbits proved at 64 bits instead of 22, none at 128); the issue's first scene 15.5, 13.6, 12.3 ->
+#: 14.7, 15.6, 13.0 (its orbits prove at 64 bits either way); the same orbits proved.  (Period by
+#: period, with the first ladder's guides cached for the second, the gains looked 2x larger.)
 PROOF_LADDER = ((64, 2.0 ** -40), (96, 2.0 ** -60), (128, 2.0 ** -80), (192, 2.0 ** -120), (320, None))
 #: Digits of the point log that guides an orbit's walks (``maps.point_log``'s ``dps``; by
 #: default the first rung's 31).  The walk polishes every event time from the log by Newton
@@ -247,9 +244,10 @@ def _fitted(prec, radius, lost):
     """A rung's box radius: the ladder's ``radius``, widened to four times the residual that a
     loss of ``lost`` bits on a lower rung predicts (``2^(lost - prec + 2)``), but never past
     ``2^-(prec // 2)``, the radius of the ladder before its fourth pass, whose fit to that residual
-    :func:`_may_hold` then decides as it did.  Issue 33, scene D's period-3 orbits lose 53 bits at
-    64: at 128 bits the box is ``2^-73``, not ``2^-80``, which the residual ``2^-75`` would not fit
-    (``None``: the default radius of ``prove_periodic``, unchanged)."""
+    :func:`_may_hold` then decides as it did.  Issue 33: scene D's period-3 orbits lost 53 bits at
+    64 when ``_may_hold`` was written; after such a loss the box at 128 bits is ``2^-73``, not
+    ``2^-80``, which the residual ``2^-75`` would not fit (``None``: the default radius of
+    ``prove_periodic``, unchanged)."""
     if radius is None:
         return None
     return min(2.0 ** -(prec // 2), max(radius, 2.0 ** (lost - prec + 2)))
