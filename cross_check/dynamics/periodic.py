@@ -84,11 +84,12 @@ FAMILY_SCREEN = 1e-6
 #: family); polished from the ends, two at the family's edge (a multiplier 2e-7 from 1, a residual
 #: of 8e-12 on a drift) passed for fixed points, and their proofs failed up the whole ladder for
 #: 22 CPU s.  With the fall-back D finds the points of the search from the seeds (17, 5 and 2 of
-#: periods 1 to 3, within 1e-8), its search 10.8 -> 8.1 CPU s; the issue's first scene 5.1 -> 2.4 (3.4 ->
-#: 2.4 with the old search second in the process; the same 34 points), ``F=1.896 f=0.0929 omega=0.806 l=0.04 r=0.64 wavenumber=3.5937 damping=0.369
-#: restitution=0.9`` 16.0 -> 7.6 (the same 20 and 12 points of periods 1 and 2; of period 3, 16 of
-#: 19 the same and three other saddles: a seed's coarse end and its default-map path from the seed
-#: may reach different orbits); one run each, on a loaded 2-core machine.
+#: periods 1 to 3, within 1e-8), its search 10.8 -> 8.1 CPU s; the issue's first scene 5.1 -> 2.4
+#: (3.4 -> 2.4 with the old search second in the process; the same 34 points), ``F=1.896 f=0.0929
+#: omega=0.806 l=0.04 r=0.64 wavenumber=3.5937 damping=0.369 restitution=0.9`` 16.0 -> 7.6 (the
+#: same 20 and 12 points of periods 1 and 2; of period 3, 16 of 19 the same and three other
+#: saddles: a seed's coarse end and its default-map path from the seed may reach different
+#: orbits); one run each, on a loaded 2-core machine.
 NEAR_ONE = 1e-4
 
 
