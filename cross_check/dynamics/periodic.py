@@ -321,7 +321,7 @@ def _near_one(J):
     non-finite ``J``: False)."""
     J = np.asarray(J, float)
     finite = np.isfinite(J).all(axis=(-1, -2))
-    mu = np.linalg.eigvals(np.where(finite[:, None, None], J, 0.0))
+    mu = multipliers(np.where(finite[:, None, None], J, 0.0))
     return finite & (np.abs(mu - 1) <= NEAR_ONE).any(axis=-1)
 
 
