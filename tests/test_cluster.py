@@ -68,7 +68,6 @@ def test_the_local_workers_run_without_dask_s_sampling_profiler(client):
                 dask.config.get("distributed.worker.profile.enabled"))
 
     assert set(client.run(sampling).values()) == {(False, False)}
-    assert cluster.LOCAL_CONFIG == {"distributed.worker.profile.enabled": False}
     from distributed import Client, LocalCluster
 
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as plain, \

@@ -288,8 +288,8 @@ def _two_stage(scene, x, v, period, tol, max_iter, v_bounds, steps):
                        coarse.iterations, coarse.gx, coarse.gv)
     if near.size:
         family = _on_family(coarse.J[near])
-        fine = newton(scene, coarse.x[near].copy(), coarse.v[near].copy(), period=period, tol=tol,
-                      max_iter=max_iter, v_bounds=(lo[near], hi[near]))
+        fine = newton(scene, coarse.x[near], coarse.v[near], period=period, tol=tol, max_iter=max_iter,
+                      v_bounds=(lo[near], hi[near]))     # (fancy indexing: copies, as newton's iterates need)
         _merge(out, fine, near)
         again = near[~fine.converged | (_near_one(fine.J) & ~family)]
         if again.size:
