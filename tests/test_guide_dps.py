@@ -1,9 +1,9 @@
-"""The point log that guides an orbit proof's walks, at ``verify.tasks.GUIDE_DPS`` digits (issue 33).
+"""The point log that guides an orbit proof's walks, at ``verify.ladder.GUIDE_DPS`` digits (issue 33).
 
 A guide only guides: each walk takes the log's itinerary, polishes every event time by Newton
 steps on the balls' midpoints and proves the event from the balls (``reference.enclosure.certify``).
 So a log good to float64's digits and a guard guides a proof of any precision, at a fraction of
-the point integrator's cost under position forcing (``tasks.GUIDE_DPS``).  Checked here on the
+the point integrator's cost under position forcing (``ladder.GUIDE_DPS``).  Checked here on the
 period-1 orbits of the issue's first unseen scene (found by ``fast``'s search):
 
 * ``maps.point_log`` runs at the digits asked (its times differ from the default log's past
@@ -20,7 +20,7 @@ import pytest
 
 from cross_check.dynamics import periodic
 from cross_check.paper.claims.base import prove
-from cross_check.verify import tasks
+from cross_check.verify import ladder, tasks
 from reference import Scene
 from reference.enclosure import maps, orbits, prove_periodic
 from reference.enclosure.balls import workprec
@@ -37,13 +37,13 @@ def found():
     points = periodic.find_periodic_points(SCENE, period=1, v_range=(-vmax, vmax), grid=(8, 8),
                                            search_steps=periodic.SEARCH_STEPS)
     assert len(points) >= 2, points
-    return [(p, tasks._section(SCENE, p.x, p.v, 1)) for p in points]
+    return [(p, ladder._section(SCENE, p.x, p.v, 1)) for p in points]
 
 
 def test_the_log_runs_at_the_digits_asked_with_the_same_itinerary(found):
     for _, (phase, x, v) in found:
         default, walls = maps.point_log(SCENE, x, v, 1, phase, 64)
-        coarse, walls_c = maps.point_log(SCENE, x, v, 1, phase, 64, dps=tasks.GUIDE_DPS)
+        coarse, walls_c = maps.point_log(SCENE, x, v, 1, phase, 64, dps=ladder.GUIDE_DPS)
         assert [e.kind for e in coarse] == [e.kind for e in default] and len(default) > 0
         # each log holds the walls at its own digits, and its impacts sit on them (the walk
         # finds an impact's wall so: ``Walk._wall_side``)
@@ -67,11 +67,11 @@ def test_verify_proves_with_a_guide_dps_log_the_balls_of_the_default_log(found, 
     real = maps.point_log
     monkeypatch.setattr(maps, "point_log", lambda *a, **k: asked.append(k.get("dps")) or real(*a, **k))
     p, (phase, x, v) = next((p, s) for p, s in found if p.kind == "saddle")
-    rec = tasks._proof("period 1 orbit 0", SCENE, p, 1, None)
-    assert asked == [tasks.GUIDE_DPS] and rec["proved"] and rec["kind"] == "saddle", rec
+    rec = ladder.proof("period 1 orbit 0", SCENE, p, 1, None)
+    assert asked == [ladder.GUIDE_DPS] and rec["proved"] and rec["kind"] == "saddle", rec
     for prec, radius in RUNGS:
         balls = []
-        for dps in (None, tasks.GUIDE_DPS):
+        for dps in (None, ladder.GUIDE_DPS):
             guide = real(SCENE, x, v, 1, phase, 64, dps=dps)
             got = prove("o", SCENE, x, v, k=1, prec=prec, radius=radius, phase=phase, points=guide, tight=False)
             assert got["proved"], got["reason"]
@@ -84,7 +84,7 @@ def test_a_guide_dps_log_of_another_orbit_proves_nothing_wrong(found):
     (_, (phase, x, v)), (_, (_, ox, oy)) = found[0], found[1]
     prec = RUNGS[0][0]
     with workprec(prec):
-        wrong = maps.point_log(SCENE, ox, oy, 1, phase, prec, dps=tasks.GUIDE_DPS)
+        wrong = maps.point_log(SCENE, ox, oy, 1, phase, prec, dps=ladder.GUIDE_DPS)
         misled = orbits._polished(SCENE, [mpmath.mpf(x), mpmath.mpf(v)], 2.0 ** -32, 1, phase, prec, wrong)
     assert not misled.proved and orbits.UNCENTRED in misled.reason, misled.reason
     right = prove_periodic(SCENE, x, v, phase=phase, prec=prec, points=wrong)
@@ -100,7 +100,7 @@ D1_SADDLE = (0.350284, 0.031347)
 
 
 def test_the_first_rung_s_box_proves_at_64_bits_what_a_box_of_2_to_the_minus_32_left_to_96(monkeypatch):
-    """``tasks.PROOF_LADDER``: the first rung's box (``2^-40``) proves this saddle at 64 bits; with
+    """``ladder.PROOF_LADDER``: the first rung's box (``2^-40``) proves this saddle at 64 bits; with
     the ladder of before (radii ``2^-(prec/2)``) the 64-bit test fails (``P'`` varies too much over
     the box of ``2^-32``) and 96 bits prove it, the same orbit."""
     import fast
@@ -111,22 +111,22 @@ def test_the_first_rung_s_box_proves_at_64_bits_what_a_box_of_2_to_the_minus_32_
     assert res.converged[0]
     p = periodic.periodic_point(sc, float(res.x[0]), float(res.v[0]), 2)
     assert p.kind == "saddle"
-    real, log = tasks.prove, []
+    real, log = ladder.prove, []
 
     def spy(*a, **kw):
         rec = real(*a, **kw)
         log.append((kw["prec"], kw["radius"], rec["proved"]))
         return rec
 
-    monkeypatch.setattr(tasks, "prove", spy)
-    assert tasks.PROOF_LADDER[0] == (64, 2.0 ** -40)
+    monkeypatch.setattr(ladder, "prove", spy)
+    assert ladder.PROOF_LADDER[0] == (64, 2.0 ** -40)
     before = tuple((prec, 2.0 ** -(prec // 2)) for prec in (64, 96, 128, 192)) + ((320, None),)
     balls = []
-    for ladder, tried in ((tasks.PROOF_LADDER, [(64, 2.0 ** -40, True)]),
+    for rungs, tried in ((ladder.PROOF_LADDER, [(64, 2.0 ** -40, True)]),
                           (before, [(64, 2.0 ** -32, False), (96, 2.0 ** -48, True)])):
-        monkeypatch.setattr(tasks, "PROOF_LADDER", ladder)
+        monkeypatch.setattr(ladder, "PROOF_LADDER", rungs)
         log.clear()
-        rec = tasks._proof("o", sc, p, 2, None)
+        rec = ladder.proof("o", sc, p, 2, None)
         assert rec["proved"] and log == tried
         balls.append(rec)
     assert balls[0]["itinerary"] == balls[1]["itinerary"] and balls[0]["kind"] == balls[1]["kind"] == "saddle"
@@ -135,13 +135,13 @@ def test_the_first_rung_s_box_proves_at_64_bits_what_a_box_of_2_to_the_minus_32_
 
 
 def test_a_rung_s_box_is_widened_to_fit_a_measured_loss():
-    """``tasks._fitted``: the ladder's radius without a measured loss; four times the residual
+    """``ladder._fitted``: the ladder's radius without a measured loss; four times the residual
     ``2^(lost - prec)`` a loss predicts where that is wider; never past ``2^-(prec // 2)`` (then
     ``_may_hold`` decides as before the fourth pass); the last rung's ``None`` stays."""
-    assert tasks._fitted(128, 2.0 ** -80, 0.0) == 2.0 ** -80
-    assert tasks._fitted(128, 2.0 ** -80, 53.0) == 2.0 ** -73             # scene D's period 3
-    assert tasks._fitted(96, 2.0 ** -60, 53.0) == 2.0 ** -48              # capped: 96 is then skipped
-    assert tasks._may_hold(96, tasks._fitted(96, 2.0 ** -60, 53.0), 53.0) is False
-    assert tasks._may_hold(128, tasks._fitted(128, 2.0 ** -80, 53.0), 53.0) is True
-    assert tasks._may_hold(128, 2.0 ** -80, 53.0) is False                # unfitted, 128 would be
-    assert tasks._fitted(320, None, 53.0) is None
+    assert ladder._fitted(128, 2.0 ** -80, 0.0) == 2.0 ** -80
+    assert ladder._fitted(128, 2.0 ** -80, 53.0) == 2.0 ** -73             # scene D's period 3
+    assert ladder._fitted(96, 2.0 ** -60, 53.0) == 2.0 ** -48              # capped: 96 is then skipped
+    assert ladder._may_hold(96, ladder._fitted(96, 2.0 ** -60, 53.0), 53.0) is False
+    assert ladder._may_hold(128, ladder._fitted(128, 2.0 ** -80, 53.0), 53.0) is True
+    assert ladder._may_hold(128, 2.0 ** -80, 53.0) is False                # unfitted, 128 would be
+    assert ladder._fitted(320, None, 53.0) is None

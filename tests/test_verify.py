@@ -16,7 +16,7 @@ import pytest
 
 from cross_check import __main__ as cli
 from cross_check import golden, scenefile, scenes
-from cross_check.verify import document, tasks
+from cross_check.verify import document, ladder, tasks
 
 pytest_plugins = ["pytester"]
 
@@ -233,7 +233,7 @@ def test_the_report_says_what_each_scenes_data_proves():
 
 
 def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch):
-    """``tasks._proof``: a rung that failed on its residual alone (``residual``: ~2^(lost - prec))
+    """``ladder.proof``: a rung that failed on its residual alone (``residual``: ~2^(lost - prec))
     rules out the rungs whose box that loss cannot fit (``_may_hold``), not the others; a failure
     of another kind rules out nothing, and the last rung is always tried.  An orbit that fast
     finds parabolic is tried on the first rung alone, and its reason says so; after a rung whose
@@ -241,12 +241,12 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     more whose residual ball is 1 wide (every bit lost: not rounding)."""
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
-    monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
+    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v))
     monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a, **k: None)
-    ladder = [prec for prec, _ in tasks.PROOF_LADDER]
+    precs = [prec for prec, _ in ladder.PROOF_LADDER]
     for residual, tried in ((2.0 ** -11, [64, 128, 192, 320]),      # 53 bits lost: 96's box 2^-48 is out
                             (2.0 ** 40, [64, 320]),                 # 104 bits lost: only 320 remains
-                            (None, ladder)):                        # another failure: every rung
+                            (None, precs)):                         # another failure: every rung
         calls = []
 
         def fake(label, sc, x, v, k, prec, radius, phase, points, tight, residual=residual):
@@ -254,15 +254,15 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
             rec = {"orbit": label, "periods": k, "proved": False, "reason": "test"}
             return {**rec, "residual": residual} if residual and prec == 64 else rec
 
-        monkeypatch.setattr(tasks, "prove", fake)
-        assert tasks._proof("o", sc, p, 1, None)["proved"] is False and calls == tried
-    assert tasks._may_hold(96, 2.0 ** -48, 53) is False and tasks._may_hold(128, 2.0 ** -64, 53) is True
+        monkeypatch.setattr(ladder, "prove", fake)
+        assert ladder.proof("o", sc, p, 1, None)["proved"] is False and calls == tried
+    assert ladder._may_hold(96, 2.0 ** -48, 53) is False and ladder._may_hold(128, 2.0 ** -64, 53) is True
     p.kind, p.trace, calls[:] = "parabolic", -2.0 + 1e-10, []     # flip-parabolic: det(P' - I) ~ 4
-    rec = tasks._proof("o", sc, p, 1, None)
+    rec = ladder.proof("o", sc, p, 1, None)
     assert calls == [64] and "parabolic" in rec["reason"]
     p.trace = 2.0 - 1e-10                                           # det(P' - I) ~ 0: not attempted
-    rec = tasks._proof("o", sc, p, 1, None)
-    assert calls == [64] and rec["reason"] == tasks.SINGULAR and rec["proved"] is False
+    rec = ladder.proof("o", sc, p, 1, None)
+    assert calls == [64] and rec["reason"] == ladder.SINGULAR and rec["proved"] is False
     p.kind, p.trace, calls[:] = "saddle", 3.0, []
 
     def every_bit_lost(label, sc, x, v, k, prec, radius, phase, points, tight):
@@ -270,13 +270,13 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
         return {"orbit": label, "periods": k, "proved": False, "reason": "test",
                 "residual": 8.0 if prec >= 128 else None}
 
-    monkeypatch.setattr(tasks, "prove", every_bit_lost)    # a whole loss at 128 bits ends the climb
+    monkeypatch.setattr(ladder, "prove", every_bit_lost)    # a whole loss at 128 bits ends the climb
     calls[:] = []
-    rec = tasks._proof("o", sc, p, 1, None)
+    rec = ladder.proof("o", sc, p, 1, None)
     assert calls == [64, 96, 128] and "every one of the 128 bits lost" in rec["reason"]
-    monkeypatch.setattr(tasks, "WHOLE_LOSS_PREC", 192)     # below the threshold the climb goes on
+    monkeypatch.setattr(ladder, "WHOLE_LOSS_PREC", 192)     # below the threshold the climb goes on
     calls[:] = []
-    tasks._proof("o", sc, p, 1, None)
+    ladder.proof("o", sc, p, 1, None)
     assert calls == [64, 96, 128, 320], calls
     calls[:] = []
 
@@ -284,8 +284,8 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
         calls.append(prec)
         return {"orbit": label, "periods": k, "proved": False, "reason": "Newton diverges", "diverged": True}
 
-    monkeypatch.setattr(tasks, "prove", diverging)      # no rung after a diverging Newton
-    assert tasks._proof("o", sc, p, 1, None)["diverged"] and calls == [64]
+    monkeypatch.setattr(ladder, "prove", diverging)      # no rung after a diverging Newton
+    assert ladder.proof("o", sc, p, 1, None)["diverged"] and calls == [64]
 
 
 @pytest.mark.parametrize("kind, trace, det, tried", [
@@ -296,13 +296,13 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     ("node", 2 - 1.2e-9, 1.0, None)])
 def test_a_near_parabolic_orbit_of_an_area_preserving_map_is_tried_on_the_first_rung_only(
         kind, trace, det, tried, monkeypatch):
-    """``tasks._proof``: a centre or saddle of an area-preserving map within ``FAMILY_TOL`` of
+    """``ladder.proof``: a centre or saddle of an area-preserving map within ``FAMILY_TOL`` of
     ``tr = +2`` in float64 (a family's member: its rungs of 192 and 320 bits failed on the
     frictionless corners) is tried at 64 bits only, and its reason says why; outside that band,
     or off ``det = 1``, the whole ladder."""
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": kind, "trace": trace, "det": det})()
-    monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
+    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v))
     monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a, **k: None)
     calls = []
 
@@ -310,9 +310,9 @@ def test_a_near_parabolic_orbit_of_an_area_preserving_map_is_tried_on_the_first_
         calls.append(prec)
         return {"orbit": label, "periods": k, "proved": False, "reason": "test"}
 
-    monkeypatch.setattr(tasks, "prove", fake)
-    rec = tasks._proof("o", sc, p, 3, None)
-    assert calls == (tried or [prec for prec, _ in tasks.PROOF_LADDER])
+    monkeypatch.setattr(ladder, "prove", fake)
+    rec = ladder.proof("o", sc, p, 3, None)
+    assert calls == (tried or [prec for prec, _ in ladder.PROOF_LADDER])
     assert ("FAMILY_TOL" in rec["reason"] and "tried at 64 bits only" in rec["reason"]) == bool(tried)
 
 
@@ -325,14 +325,14 @@ def test_a_near_parabolic_orbit_of_an_area_preserving_map_is_tried_on_the_first_
                                              ({64: 1.6e13, 192: 8.5e6}, [64, 192]),
                                              ({64: 1e10, 192: 1e12}, [64, 192])])    # it grew
 def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spreads, tried, monkeypatch):
-    """``tasks._proof``: a rung that found ``P'`` too wide for any Krawczyk box (``spread``, ``>=
+    """``ladder.proof``: a rung that found ``P'`` too wide for any Krawczyk box (``spread``, ``>=
     1``) rules out the rungs where ``spread 2^-((prec - 64) / 2)`` is still 1 or more
     (``_may_hold``), and tries the others; the last rung is tried unless two rungs measured the
     spread and the rate they show (``_spread_at``) leaves it 1 or more there, which the reason
     then says."""
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
-    monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
+    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v))
     monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a, **k: None)
     calls = []
 
@@ -341,29 +341,29 @@ def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spreads, t
         rec = {"orbit": label, "periods": k, "proved": False, "reason": "test"}
         return {**rec, "spread": spreads[prec]} if prec in spreads else rec
 
-    monkeypatch.setattr(tasks, "prove", fake)
-    rec = tasks._proof("o", sc, p, 1, None)
+    monkeypatch.setattr(ladder, "prove", fake)
+    rec = ladder.proof("o", sc, p, 1, None)
     assert rec["proved"] is False and calls == tried
     assert ("no higher rung is tried" in rec["reason"]) == (tried[-1] != 320)
-    assert tasks._may_hold(128, 2.0 ** -64, 0, [(64, 6e9)]) is False
+    assert ladder._may_hold(128, 2.0 ** -64, 0, [(64, 6e9)]) is False
     if spreads == {64: 1e4}:    # two spreads that allow 320, and a residual loss that rules it out
         spreads[96], calls[:] = 1.5, []
-        monkeypatch.setattr(tasks, "prove", lambda *a, **k: {**fake(*a, **k), "residual": 2.0 ** 125}
+        monkeypatch.setattr(ladder, "prove", lambda *a, **k: {**fake(*a, **k), "residual": 2.0 ** 125}
                             if k["prec"] == 96 else fake(*a, **k))
-        rec = tasks._proof("o", sc, p, 1, None)
+        rec = ladder.proof("o", sc, p, 1, None)
         assert calls == [64, 96, 320] and "no higher rung" not in rec["reason"]   # the last is tried
-    assert tasks._may_hold(192, 2.0 ** -96, 0, [(64, 6e9)]) is True
-    assert tasks._spread_at(320, [(64, 1.6e13), (192, 8.5e6)]) == pytest.approx(4.4, rel=0.05)
-    assert tasks._spread_at(320, [(64, 6e9), (192, 6e9 * 2.0 ** -64)]) == pytest.approx(6e9 * 2.0 ** -128)
+    assert ladder._may_hold(192, 2.0 ** -96, 0, [(64, 6e9)]) is True
+    assert ladder._spread_at(320, [(64, 1.6e13), (192, 8.5e6)]) == pytest.approx(4.4, rel=0.05)
+    assert ladder._spread_at(320, [(64, 6e9), (192, 6e9 * 2.0 ** -64)]) == pytest.approx(6e9 * 2.0 ** -128)
 
 
 def test_an_orbit_proof_seeds_each_rung_with_the_centre_the_one_below_polished(monkeypatch):
-    """``tasks._proof``: a rung whose test failed after Newton converged (``centre``) hands that
+    """``ladder.proof``: a rung whose test failed after Newton converged (``centre``) hands that
     centre to the next rung as its seed; a rung without one leaves the seed as it was; the
     record returned has no ``centre``."""
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
-    monkeypatch.setattr(tasks, "_section", lambda sc, x, v, k: (0, x, v))
+    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v))
     monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a, **k: None)
     seeds, centres = [], {64: ["0.31", "0.21"], 128: ["0.32", "0.22"]}
 
@@ -372,13 +372,13 @@ def test_an_orbit_proof_seeds_each_rung_with_the_centre_the_one_below_polished(m
         rec = {"orbit": label, "periods": k, "proved": prec == 192, "reason": "test"}
         return {**rec, "centre": centres[prec]} if prec in centres else rec
 
-    monkeypatch.setattr(tasks, "prove", fake)
-    rec = tasks._proof("o", sc, p, 1, None)
+    monkeypatch.setattr(ladder, "prove", fake)
+    rec = ladder.proof("o", sc, p, 1, None)
     assert rec["proved"] and "centre" not in rec
     assert seeds == [(64, 0.3, 0.2), (96, "0.31", "0.21"), (128, "0.31", "0.21"), (192, "0.32", "0.22")]
     centres[192] = ["0.33", "0.23"]                 # a last rung that fails: no centre in its record
-    monkeypatch.setattr(tasks, "prove", lambda *a, **k: {**fake(*a, **k), "proved": False})
-    assert "centre" not in tasks._proof("o", sc, p, 1, None)
+    monkeypatch.setattr(ladder, "prove", lambda *a, **k: {**fake(*a, **k), "proved": False})
+    assert "centre" not in ladder.proof("o", sc, p, 1, None)
 
 
 def test_the_proofs_go_to_the_other_orbits_before_the_parabolic_ones():
@@ -404,7 +404,7 @@ def test_a_proofs_section_lies_in_flight_not_in_a_rest():
     chatter; from the start if the motion starts at rest until a slip or release), the longest
     of all only if every stretch rests.  On an unseen scene's period-1 orbits that stick (issue
     33), the longest stretch is the stick, where ``v = 0`` and no box of starts has one
-    itinerary; ``tasks._section`` now puts the section in flight."""
+    itinerary; ``ladder._section`` now puts the section in flight."""
     from cross_check.agreement import compare
     from cross_check.dynamics import periodic
     from reference.enclosure.shooting import quiet_middle, rest_stretches
@@ -425,5 +425,5 @@ def test_a_proofs_section_lies_in_flight_not_in_a_rest():
     for p in nodes:
         kinds = {e.kind for evs in compare.fast_events(sc, p.points[:, 0], p.points[:, 1]) for e in evs}
         assert "stick" in kinds
-        _, x, v = tasks._section(sc, p.x, p.v, 1)
+        _, x, v = ladder._section(sc, p.x, p.v, 1)
         assert v != 0 and sc.float("l") < x < sc.float("r")

@@ -69,7 +69,7 @@ SEARCH_TOL = 1e-7
 #: by ``|(P' - I)^-1|`` times the coarse map's error), the seed runs as alone, as before.  Issue 33,
 #: periods 1 to 3, 16 x 16 seeds, one run: the search on the frictionless corners ``F=3 f=0
 #: omega=0.5 l=-2 r=2 wavenumber=2`` 45.4 -> 28.8 CPU s and ``F=2 f=0 omega=0.5 l=-1 r=1
-#: wavenumber=2`` 27.3 -> 20.1, every point found outside ``verify.tasks.FAMILY_TOL`` the same bit for
+#: wavenumber=2`` 27.3 -> 20.1, every point found outside ``verify.ladder.FAMILY_TOL`` the same bit for
 #: bit (the first scene's isolated centre at ``tr = 2 - 3.6e-8`` among them, which the search lost
 #: without the fall-back to the seed); on ``F=1.5 f=0 omega=0.9 l=-0.8 r=0.6 wavenumber=2.2`` and the
 #: issue's first scene without friction the same points, the same time to 0.5 s.  With friction (W,

@@ -6,6 +6,7 @@ Composes the rooms below it and owns no math:
 * ``tasks``    -- the units of work (states and hard cases, golden data with proofs, agreement,
   orbits with proofs, portrait, scorecards), each a call into a room below, and the run's depth
   (``FULL``, ``QUICK``);
+* ``ladder``   -- an orbit's proof: the precisions and Krawczyk boxes it climbs, and when it stops;
 * ``document`` -- the checks each scene passes or fails, and ``report.md``;
 * ``portrait`` -- the PNG of a scene's phase plane: Omega_pres / Omega_dissip, orbits, proved points.
 
@@ -18,7 +19,7 @@ was the *point* integrator -- the Taylor flights of the Newton steps, the box an
 ~100 digits), the golden data 36 (each input integrated three times per precision, the Jacobian's
 flights a fourth, and six more runs for the band), scorecards and agreement 11 (the same
 ten-period truths three times).  Now: the proofs climb a precision ladder from 64 bits with the
-section from fast (``tasks.PROOF_LADDER``); ``golden.compute`` takes map, events and Jacobian from
+section from fast (``ladder.PROOF_LADDER``); ``golden.compute`` takes map, events and Jacobian from
 one integration, ``golden_proof.band`` settles the band by one proof, ``golden_proof.enclosure`` proves at
 192 bits first; the agreement reads the reference's answers from the golden data; both scorecards
 run in one task; ``reference.taylor`` keeps each step's recurrence for the variational columns
