@@ -12,6 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from cross_check.dynamics import newton as N
 from cross_check.dynamics import periodic as A
 from cross_check.dynamics import portraits
 from cross_check.tolerances import tol
@@ -190,13 +191,13 @@ def test_coarse_search_changes_nothing_without_position_forcing():
 
 def test_on_family_takes_both_multipliers_near_one_of_an_area_preserving_map_only():
     """``_on_family``: ``|tr - 2|`` and ``|det - 1|`` both within ``FAMILY_SCREEN``."""
-    e = A.FAMILY_SCREEN
+    e = N.FAMILY_SCREEN
     J = np.array([[[1.0, 3.0], [0.0, 1.0]],                    # parabolic shear: a family's member
                   [[1.0 + e / 4, 0.5], [0.0, 1.0 - e / 4]],    # within the screen
                   [[1.0 + 4 * e, 0.0], [0.0, 1.0]],            # tr 2 + 4e: an isolated point
                   [[1.0, 0.0], [0.0, 0.5]],                    # det 0.5: a segment, not a family
                   [[np.nan, 0.0], [0.0, 1.0]]])
-    assert A._on_family(J).tolist() == [True, True, False, False, False]
+    assert N._on_family(J).tolist() == [True, True, False, False, False]
 
 
 CONSERVATIVE = Scene(F=2, f="0", omega="0.5", l=-1, r=1, wavenumber="2")    # families of fixed points
@@ -205,7 +206,7 @@ CONSERVATIVE = Scene(F=2, f="0", omega="0.5", l=-1, r=1, wavenumber="2")    # fa
 def _spy_newton(monkeypatch, fail_from_ends=False):
     """Record ``(x, v, engine, result)`` of every ``newton`` run ``_two_stage`` makes; with
     ``fail_from_ends`` the run from the coarse ends (the second) reports every seed not converged."""
-    calls, plain = [], A.newton
+    calls, plain = [], N.newton
 
     def spy(scene, x, v, **kw):
         res = plain(scene, x, v, **kw)
@@ -215,17 +216,17 @@ def _spy_newton(monkeypatch, fail_from_ends=False):
         calls.append((np.array(x, float), np.array(v, float), kw.get("engine"), kept))
         return res       # (copies kept: _two_stage writes the later runs into the coarse arrays)
 
-    monkeypatch.setattr(A, "newton", spy)
+    monkeypatch.setattr(N, "newton", spy)
     return calls
 
 
 def _family_search(monkeypatch, fail_from_ends=False):
     X, V = A.seed_grid(CONSERVATIVE, (6, 6), (-4.0, 4.0))
     calls = _spy_newton(monkeypatch, fail_from_ends)
-    res = A._two_stage(CONSERVATIVE, X, V, 1, 1e-11, A.MAX_NEWTON, None, A.SEARCH_STEPS)
+    res = N._two_stage(CONSERVATIVE, X, V, 1, 1e-11, A.MAX_NEWTON, None, A.SEARCH_STEPS)
     coarse = calls[0][3]
     near = np.flatnonzero(coarse.converged)
-    return X, V, calls, res, coarse, near, A._on_family(coarse.J)[near]
+    return X, V, calls, res, coarse, near, N._on_family(coarse.J)[near]
 
 
 def test_coarse_search_runs_the_default_map_from_the_coarse_ends(monkeypatch):
@@ -235,12 +236,12 @@ def test_coarse_search_runs_the_default_map_from_the_coarse_ends(monkeypatch):
     from their seeds; and the points off ``tr = 2`` do not depend on ``FAMILY_SCREEN``, bit for bit
     (without it a family's members run again from their seeds)."""
     X, V, calls, res, coarse, near, family = _family_search(monkeypatch)
-    assert isinstance(calls[0][2], A._Fast) and calls[1][2] is None
+    assert isinstance(calls[0][2], N._Fast) and calls[1][2] is None
     assert family.any() and (~family).any()
     fx, fv = calls[1][:2]
     assert np.array_equal(fx, coarse.x[near]) and np.array_equal(fv, coarse.v[near])
     fine = calls[1][3]
-    redo = near[~fine.converged | (A._near_one(fine.J) & ~family)]
+    redo = near[~fine.converged | (N._near_one(fine.J) & ~family)]
     if redo.size:
         assert len(calls) == 3 and np.array_equal(calls[2][0], X[redo]) and np.array_equal(calls[2][1], V[redo])
     else:
@@ -251,7 +252,7 @@ def test_coarse_search_runs_the_default_map_from_the_coarse_ends(monkeypatch):
         assert max(abs(P[0] - x), abs(W[0] - v)) <= 1e-11 * max(1, abs(x), abs(v))
     kw = dict(period=1, v_range=(-4.0, 4.0), grid=(6, 6), search_steps=A.SEARCH_STEPS)
     with_screen = A.find_periodic_points(CONSERVATIVE, **kw)
-    monkeypatch.setattr(A, "FAMILY_SCREEN", -1.0)
+    monkeypatch.setattr(N, "FAMILY_SCREEN", -1.0)
     without = A.find_periodic_points(CONSERVATIVE, **kw)
     off = lambda pts: [(p.x, p.v, p.kind) for p in pts if abs(p.trace - 2) > 1e-8]
     assert off(with_screen) and off(with_screen) == off(without)
@@ -259,14 +260,14 @@ def test_coarse_search_runs_the_default_map_from_the_coarse_ends(monkeypatch):
 
 def test_near_one_takes_a_multiplier_within_near_one_of_one():
     """``_near_one``: either multiplier within ``NEAR_ONE`` of 1; a non-finite ``J`` is not."""
-    e = A.NEAR_ONE
+    e = N.NEAR_ONE
     J = np.array([[[1.0, 3.0], [0.0, 1.0]],                    # parabolic shear
                   [[1.0 - e / 2, 0.0], [0.0, 0.2]],            # a rest state's family direction
                   [[0.2, 0.0], [0.0, 1.0 + e / 2]],            # the other multiplier
                   [[1.0 + 2 * e, 0.0], [0.0, 0.2]],            # 2 NEAR_ONE away
                   [[0.0, -1.0], [1.0, 0.0]],                   # multipliers +-i
                   [[np.nan, 0.0], [0.0, 1.0]]])
-    assert A._near_one(J).tolist() == [True, True, True, False, False, False]
+    assert N._near_one(J).tolist() == [True, True, True, False, False, False]
 
 
 def test_coarse_search_runs_an_end_polished_near_one_again_from_the_seed(monkeypatch):
@@ -275,15 +276,15 @@ def test_coarse_search_runs_an_end_polished_near_one_again_from_the_seed(monkeyp
     end fails, and those results are the seeds'; with ``NEAR_ONE`` below 0 only the failed ones do
     (the check can fail)."""
     X, V = A.seed_grid(XPOT_D, (6, 6), (-3.0, 3.0))
-    for near_one in (A.NEAR_ONE, -1.0):
+    for near_one in (N.NEAR_ONE, -1.0):
         with monkeypatch.context() as m:
-            m.setattr(A, "NEAR_ONE", near_one)
+            m.setattr(N, "NEAR_ONE", near_one)
             calls = _spy_newton(m)
-            res = A._two_stage(XPOT_D, X, V, 1, 1e-11, A.MAX_NEWTON, None, A.SEARCH_STEPS)
+            res = N._two_stage(XPOT_D, X, V, 1, 1e-11, A.MAX_NEWTON, None, A.SEARCH_STEPS)
         coarse, fine = calls[0][3], calls[1][3]
         near = np.flatnonzero(coarse.converged)
-        family = A._on_family(coarse.J[near])
-        polished_near_one = fine.converged & A._near_one(fine.J) & ~family      # at the default NEAR_ONE
+        family = N._on_family(coarse.J[near])
+        polished_near_one = fine.converged & N._near_one(fine.J) & ~family      # at the default NEAR_ONE
         assert not family.any() and polished_near_one.any()
         again = near[~fine.converged | (polished_near_one if near_one > 0 else False)]
         assert len(calls) == 3 and np.array_equal(calls[2][0], X[again]) and np.array_equal(calls[2][1], V[again])

@@ -1,7 +1,9 @@
 """Dynamics of the stroboscopic map: periodic points, their continuation, phase portraits.
 
-* ``periodic``     -- ONE Newton for ``Phi^k(z) = z`` over any engine (``fast`` in float64, or
-  ``reference`` at any dps), the multipliers and ONE classifier, the search from a seed grid;
+* ``newton``       -- ONE Newton for ``Phi^k(z) = z`` over any engine (``fast`` in float64, or
+  ``reference`` at any dps; under position forcing a coarse screen first), and the multipliers;
+* ``periodic``     -- ONE classifier and the search from a seed grid (``newton``'s names are also
+  its own: the suite asks ``periodic`` for them);
 * ``continuation`` -- pseudo-arclength continuation in a parameter, folds, and thresholds
   (a fixed point plus a multiplier condition) on the reference;
 * ``portraits``    -- orbits, Birkhoff regular/chaotic, islands, the area classes

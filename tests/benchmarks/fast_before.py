@@ -8,7 +8,7 @@ per-call overhead differs from today's ``fast``: the numbers are the same bits.
 """
 import numpy as np
 
-from cross_check.dynamics import periodic
+from cross_check.dynamics import newton
 from fast import api, batch, loop, ode
 from fast.eventlog import EventLog
 
@@ -106,8 +106,8 @@ def events(scene, x, v):
     return EventLog(x.shape, _run(engine, P, x, v, log=True))
 
 
-class _Engine(periodic._Fast):
-    """``cross_check.dynamics.periodic``'s float64 engine as it was: one call per period."""
+class _Engine(newton._Fast):
+    """``cross_check.dynamics.newton``'s float64 engine as it was: one call per period."""
 
     def map_jac(self, scene, x, v, k):
         J = np.broadcast_to(np.eye(2), x.shape + (2, 2)).copy()
