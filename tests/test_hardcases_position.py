@@ -306,16 +306,23 @@ def test_impact_at_T_refinement_refuses_a_jump_and_keeps_a_steep_root(monkeypatc
         assert abs(x0 - mpmath.mpf("0.3")) < mpmath.mpf(10) ** -(HP.STATE_DIGITS + 3) and kinds == ["impact"]
 
 
-def test_a_jump_that_fast_narrows_to_is_not_refined_again_and_a_root_is():
+def test_a_jump_that_fast_narrows_to_is_not_refined_again_and_a_root_is(monkeypatch):
     """``impact_at_t._fast_jump``: on the frictionless far corner of issue 33 the bracket from rest
     ``[-0.078125, -0.0703125]`` straddles a jump of the fourth impact's time (an earlier event
     grazes); fast narrows it to ~5e-10 around the jump, with ``t_j - T`` still ~1.1 at both ends:
-    a jump.  Scene C's bracket narrows around its root: not a jump."""
+    a jump, which ``_refined`` refuses before any run of the reference.  Scene C's bracket
+    narrows around its root: not a jump."""
     sc = Scene(F=2, f=0, omega="0.5", l=-1, r=1, wavenumber=2, name="test: impact at T jump")
     xa, xb = -0.078125, -0.0703125
     na, nb = impact_at_t._narrowed(sc, xa, xb)
     assert xa < na < nb < xb and nb - na < 1e-8
     assert impact_at_t._fast_jump(sc, (xa, xb), (na, nb), "0")
+    runs = []
+    monkeypatch.setattr(impact_at_t, "_trajectory", lambda *a, **k: runs.append(a) or [])
+    with mpmath.workdps(impact_at_t.REFINE_DPS + 10), pytest.raises(ConstructionError, match="jumps in fast's"):
+        impact_at_t._refined(sc, xa, xb, 2 * mpmath.pi / sc.mpf("omega"), HP.STATE_DIGITS)
+    assert runs == []
+    monkeypatch.undo()
     sc = SCENES["C"]
     x0 = float(_case("C", "impact_at_T").x)
     (xa, xb, _), = [b for b in impact_at_t._brackets(sc) if b[0] <= x0 <= b[1] and b[2] == "0"]
