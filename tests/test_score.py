@@ -133,6 +133,30 @@ def test_ten_periods_are_scored_against_the_reference():
     assert len(ten) == 2 and min(ten) > 10        # chaotic amplification over 10 periods stays modest here
 
 
+@pytest.mark.parametrize("name", ["fig:xpotno", "fig:many:2pi/f=0.1"])
+def test_ten_period_truth_at_ten_dps_reads_as_one_fifteen_digits_finer(name):
+    """``card.TEN_DPS``: fast's ten-period digits (capped at 17) read against the truth at
+    ``TEN_DPS`` are those against the truth at ``TEN_DPS + 15`` to 1e-3 digits, on the first two
+    ten-period states of a position-forced scene and of a closed-form one; a truth at 15 digits
+    would misread them (the check can fail)."""
+    from cross_check import scenes
+    from cross_check.agreement import compare
+    from cross_check.score.card import TEN_DPS
+    from cross_check.score.golden import ten_period_cases
+
+    sc, cases = scenes.scene(name), scene_cases(name)
+    off = []
+    for i in ten_period_cases(cases)[:2]:
+        c = cases[i]
+        case = compare.Case(c.name, repr(c.x), repr(c.v), "float64", "golden input")
+        X, V = compare.fast_map(sc, np.array([c.x]), np.array([c.v]), 10)
+        read = lambda dps: [compare.digits(float(a[0]), b) for a, b in zip((X, V), compare.ref_map(sc, case, 10, dps))]
+        fine = read(TEN_DPS + 15)
+        assert max(abs(a - b) for a, b in zip(read(TEN_DPS), fine)) <= 1e-3
+        off.append(max(abs(a - b) for a, b in zip(read(15), fine)))
+    assert max(off) > 1e-3
+
+
 def test_cli_writes_markdown_and_json(tmp_path, capsys):
     out = tmp_path / "card"
     # in process: the worker process's path is tested on its own (tests/test_score_budget.py)

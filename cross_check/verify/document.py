@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from cross_check import scenes
 from cross_check.report import sections
+from cross_check.score.card import TEN_DPS
 
 
 def _get(got, what):
@@ -215,7 +216,7 @@ def scene_section(rec, got, failed, slug) -> list[str]:
         lines += _golden_section(g) + [""]
     if a is not None:
         lines += ["Fast against the reference (its golden data: dps 90, checked at dps 110; ten periods: fast's "
-                  "scorecard, against the reference at 40 digits), samples:", ""]
+                  f"scorecard, against the reference at {TEN_DPS} digits), samples:", ""]
         lines += sections.agreement_table({name: {**a["samples"], "map10": _ten_periods(got, name)}}) + [""]
         if a["hard"]:
             lines += ["Hard cases (fast and scipy see the float64 rounding of the decimal state):", ""]

@@ -138,7 +138,7 @@ def agreement(rec: dict, golden_file: dict, cases: list, depth: Depth) -> dict:
     hard = [c for c in cases if c.exact == "decimal"] if depth.hard_agreement else []
     ref = sections.golden_reference(golden_file["document"])
     # the ten-period comparisons are fast's scorecard's (the same measurement on the same sample
-    # states, against the reference at 40 digits): ``document`` shows them in this table
+    # states, against the reference at ``card.TEN_DPS`` digits): ``document`` shows them in this table
     return {"samples": sections.scene_agreement(name, depth.n_sample, 0, reference=ref),
             "hard": sections.hard_case_rows(name, reference=ref, cases=hard) if hard else []}
 
@@ -234,7 +234,8 @@ def scorecards(rec: dict, golden_file: dict, adapters: tuple, depth: Depth) -> d
     processes); the reference's event search with float64 far-from-root steps and a kept state
     (``reference.taylor``) takes the task to 7.0 CPU s, the same cards start for start; the
     event search's bounds over windows of ``T / 8`` (``reference.taylor.BOUND_WINDOWS``), not
-    over the rest of ten periods, take it from 4.9 to 2.0 in a full verify (one run each)."""
+    over the rest of ten periods, take it from 4.9 to 2.0 in a full verify (one run each); the truths at
+    25 digits, not 40 (``card.TEN_DPS``), the same readings, take a third off them."""
     import time
 
     out = {}
