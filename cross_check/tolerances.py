@@ -186,7 +186,7 @@ TOLERANCES = {
             "Measured on random position-forced scenes (issue 33): the coarse det strays from the "
             "default's by up to ~1e-9 where a period has hundreds of impacts (gap 0.2, omega 0.5), "
             "so a margin below claim_unit_det is needed, and by ~1e-10 elsewhere"),
-    # --- position-dependent forcing flights: reference/taylor.py, fast/ode.py -------------
+    # --- position-dependent forcing flights: reference/taylor.py, fast/ode_flight.py ------
     "taylor_closed_form_dps50": Tol(
         rtol=0.0, atol=1e-45,
         why="Taylor flight with k = 0 against the closed-form flight at 50 digits: each step's "

@@ -1,4 +1,4 @@
-"""fast/ode.py: compiled DOP853 flights under position-dependent forcing.
+"""fast/ode.py (with its parts fast/ode_flight.py and fast/ode_params.py): compiled DOP853 flights under position-dependent forcing.
 
 Compared, flight by flight (the whole map is the cross-check's job), with the certified
 Taylor flight of ``reference.taylor`` at 30 digits and its certified event search
