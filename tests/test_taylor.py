@@ -1,4 +1,4 @@
-"""reference/taylor.py: the certified Taylor flight for position-dependent forcing.
+"""reference/taylor.py (its steps in reference/taylor_series.py): the certified Taylor flight for position-dependent forcing.
 
 Checks, each against something independent of the Taylor recurrences:
 closed-form flight when ``k = 0`` (reference.flows' base flight), ``mpmath.odefun`` (mpmath's own
