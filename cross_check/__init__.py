@@ -10,7 +10,9 @@ Rooms, each importing only those below it (the import contracts in ``pyproject.t
 * ``score/``      -- score any integrator against the golden data (adapter protocol, scorecard,
   pytest plugin);
 * ``paper/``      -- the paper's claims and figures, each a registry;
-* ``golden``      -- the golden data, written from the reference;
+* ``golden``      -- the golden data, written from the reference (its runs and self-check in
+  ``golden_runs``, its files on disk in ``golden_files``, its proofs in ``golden_proof`` and
+  ``golden_chatter``);
 * ``scenes``      -- the paper's named scenes, sample states and hard states;
 * ``dynamics/``   -- one Newton for periodic points, one classifier, continuation, portraits;
 * ``agreement/``  -- comparing two integrators: itinerary first, then digits; hard cases; scipy;

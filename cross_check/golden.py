@@ -32,11 +32,13 @@ is written (``GoldenError``).  Provenance (mpmath version and backend, dps, the 
 parameters, how each state was made) is recorded; the date is not, so that regenerating gives
 byte-identical files (keys in a fixed order, a list of scalars per line: ``dumps``).
 Why dps 90: the chatter accumulation time carries only ~dps/2 + 4 digits (see the tolerance).
+
+The runs and their self-check (``compute``, ``disagreement``, ``record``) are ``golden_runs``'; the
+files on disk (``dumps``, ``files``, ``load``, ``names_in``, ``scene_of``) ``golden_files``'; both
+are read here, as the suite always has.
 """
 from __future__ import annotations
 
-import json
-import math
 import pathlib
 import sys
 
@@ -44,13 +46,20 @@ import mpmath
 
 from cross_check.agreement import compare
 from cross_check import golden_chatter, golden_proof, outputs, scenefile, scenes
+from cross_check.golden_files import dumps, files, load, names_in, scene_of
+from cross_check.golden_runs import (CHECK_DPS, DIGITS, GOLDEN_DPS, _values, compute, disagreement, fmt, jacobian_digits,
+                                     kappa, record)
 from cross_check.progress import Progress
 from cross_check.tolerances import tol
 from reference.enclosure.balls import from_mpf
 
-GOLDEN_DPS = 90
-CHECK_DPS = GOLDEN_DPS + 20
-DIGITS = 40
+#: the names of the runs (``golden_runs``) and of the files (``golden_files``) that the suite reads
+#: here, with this module's own
+__all__ = ["CHECK_DPS", "DIGITS", "GOLDEN_DPS", "compute", "disagreement", "fmt", "jacobian_digits", "kappa", "record",
+           "dumps", "files", "load", "names_in", "scene_of", "N_SAMPLE", "FORMAT", "DEFAULT_DIR", "GoldenError",
+           "scene_record", "PROVED_DPS", "outside_proof", "first_proof", "proved_values", "proved_jacobian",
+           "input_proof", "case_entry", "document", "scene_file", "generate", "main"]
+
 N_SAMPLE = 8
 FORMAT = 2
 DEFAULT_DIR = pathlib.Path(__file__).resolve().parent / "data" / "golden"   # where `golden` writes in a checkout
@@ -58,14 +67,6 @@ DEFAULT_DIR = pathlib.Path(__file__).resolve().parent / "data" / "golden"   # wh
 
 class GoldenError(RuntimeError):
     """Self-agreement failed: the golden data would not be trustworthy."""
-
-
-def fmt(value, digits: int = DIGITS) -> str | None:
-    """``digits`` significant digits, deterministic (``None`` stays ``None``)."""
-    if value is None:
-        return None
-    with mpmath.workdps(DIGITS + 10):
-        return mpmath.nstr(mpmath.mpf(value), digits, strip_zeros=False)
 
 
 def scene_record(sc) -> dict:
@@ -76,156 +77,6 @@ def scene_record(sc) -> dict:
         rec[k] = None if value is None else str(value)
     rec["effects"] = sorted(sc.effects)
     return rec
-
-
-class _KeptFlights:
-    """The reference's model with the flights its integrator makes kept by their start, so that
-    Table 1's flight factors (``reference.jacobian``'s ``flow_derivative`` hook) are the
-    variational equations on *those* Taylor steps, not on a flight integrated again per factor
-    (``reference.taylor.flight_matrix``: the same steps from the same start and sign, so the
-    same numbers)."""
-
-    def __init__(self, model):
-        self.model, self.kept = model, {}
-
-    def __getattr__(self, name):
-        return getattr(self.model, name)
-
-    def flight(self, t0, x0, v0, s):
-        made = self.model.flight(t0, x0, v0, s)
-        self.kept[(t0, x0, v0, s)] = made
-        return made
-
-    def flow_derivative(self, start, t):
-        from reference import taylor
-
-        t0, x0, v0 = start
-        s = 0 if not self.model.friction else (
-            (1 if v0 > 0 else -1) if v0 != 0 else (1 if self.model.force(x0, t0) > 0 else -1))
-        made = self.kept.get((t0, x0, v0, s))
-        if made is None:
-            return taylor.flight_matrix(self.model, t0, x0, v0, t)
-        J = made.jacobian(t)
-        return [[J[0, 0], J[0, 1]], [J[1, 0], J[1, 1]]]
-
-
-def compute(sc, case, dps: int, jacobian: bool = True) -> dict:
-    """Map, Jacobian and one-period event log of ``reference`` at ``dps`` (mpf values).
-
-    One integration over ``[0, T]`` gives all three (what ``reference.stroboscopic_map``,
-    ``jacobian`` and ``trajectory`` each integrate again; issue 33: under position forcing the
-    three runs, each Jacobian factor a fresh Taylor flight, were ~70% of a golden input's cost),
-    each value rounded to ``dps`` digits as those calls round it.  ``jacobian=False``: no
-    Jacobian (``None``, with the note saying so; ``proved_values`` takes it from the proof).
-    """
-    from reference import api, integrator
-
-    with mpmath.workdps(dps + 10):
-        x, v = case.mpf()                            # as compare.ref_map & co. read a case
-    with mpmath.workdps(api._work_dps(sc, dps)):
-        model = _KeptFlights(api._model_here(sc))
-        x, v = api._state(model, x, v)
-        log = integrator.integrate(model, mpmath.mpf(0), x, v, model.T)
-        out = {"phi": api._rounded(dps, log.x_end, log.v_end)}
-        out["jacobian"], out["jacobian_note"] = _jacobian(model, log, dps) if jacobian else (None, "not computed")
-        with mpmath.workdps(dps):
-            out["events"] = [compare.Event(e.kind, +e.t, +e.x, +e.v, None if e.v_before is None else +e.v_before,
-                                           e.count) for e in log]
-        out["points"] = (log, (model.l, model.r))   # the point log an enclosure may be guided by
-    return out
-
-
-def _jacobian(model, log, dps):
-    """``(Phi', None)`` of the run (Table 1's product, ``dps`` digits), or ``(None, why)`` where
-    it is undefined (grazing: the reference says why)."""
-    from reference.jacobian import product_of_table1
-
-    try:
-        J = product_of_table1(model, log)
-    except (ValueError, ArithmeticError) as exc:
-        return None, f"{type(exc).__name__}: {exc}"
-    with mpmath.workdps(dps):
-        return [[+J[0][0], +J[0][1]], [+J[1][0], +J[1][1]]], None
-
-
-def kappa(sc, res) -> float:
-    """Conditioning of the Jacobian: ``max(1, max over impacts of (F/w) / |v-|)``.
-
-    The saltation entry ``2A/v-`` carries the relative error of ``v-``, whose absolute error
-    is of the order of the velocity unit ``F/w`` times the working precision.
-    """
-    unit = max(sc.float("F") / sc.float("omega"), sc.float("f") / sc.float("omega"), 1e-300)
-    k = 1.0
-    for e in compare.canonical(res["events"], sc):   # bounces of a chatter run: not physics
-        if e.kind == "impact" and e.v_before is not None and e.v_before != 0:
-            k = max(k, unit / abs(float(e.v_before)))
-    return k
-
-
-def jacobian_digits(sc, res) -> int:
-    """Significant digits written for the Jacobian: ``DIGITS - ceil(log10 kappa)``."""
-    return max(1, DIGITS - math.ceil(math.log10(kappa(sc, res))))
-
-
-def _values(res, jacobian: bool) -> list:
-    vals = list(res["phi"])
-    for e in res["events"]:
-        vals += [e.t, e.x, e.v] + ([] if e.v_before is None else [e.v_before])
-    if jacobian and res["jacobian"] is not None:
-        return [res["jacobian"][i][j] for i in range(2) for j in range(2)]
-    return vals
-
-
-def _beyond(va, vb, rtol) -> bool:
-    va, vb = mpmath.mpf(va), mpmath.mpf(vb)
-    return abs(va - vb) > rtol * max(1, abs(vb))
-
-
-def disagreement(a: dict, b: dict, sc=None) -> str | None:
-    """Why the runs ``a`` (dps) and ``b`` (dps + 20) disagree, or ``None``.
-
-    Map and events: within ``golden_self_agreement``; the Jacobian within that times
-    ``kappa`` (the digits it can carry near grazing; only those digits are written).
-    Itineraries are compared in ``compare.canonical`` form (the number of chatter bounces
-    simulated one by one depends on the precision).
-    """
-    if sc is not None:
-        a = {**a, "events": compare.canonical(a["events"], sc)}
-        b = {**b, "events": compare.canonical(b["events"], sc)}
-    ka, kb = [e.kind for e in a["events"]], [e.kind for e in b["events"]]
-    if ka != kb:
-        first = next((i for i, (x, y) in enumerate(zip(ka, kb)) if x != y), min(len(ka), len(kb)))
-        return (f"itineraries differ at event {first}: {' '.join(ka[first:first + 4])} ... ({len(ka)} events) "
-                f"vs {' '.join(kb[first:first + 4])} ... ({len(kb)} events)")
-    if (a["jacobian"] is None) != (b["jacobian"] is None):
-        return f"Jacobian defined in one run only ({a['jacobian_note']} / {b['jacobian_note']})"
-    rtol = tol("golden_self_agreement").rtol
-    k = 1.0 if sc is None else kappa(sc, b)
-    with mpmath.workdps(CHECK_DPS):
-        for jac, scale in ((False, 1.0), (True, k)):
-            for va, vb in zip(_values(a, jac), _values(b, jac)):
-                if _beyond(va, vb, rtol * scale):
-                    return f"value {mpmath.nstr(va, 45)} != {mpmath.nstr(vb, 45)} beyond {rtol * scale:g}"
-    return None
-
-
-def record(sc, res: dict) -> dict:
-    """The JSON form of one result (strings at ``DIGITS`` digits; the Jacobian at its own).
-
-    Events are stored in ``compare.canonical`` form (a chatter run as its first impact and
-    the ``chatter`` event; the number of bounces the reference simulated one by one is an
-    implementation detail and is not stored).
-    """
-    jac = res["jacobian"]
-    nd = jacobian_digits(sc, res)
-    return {
-        "phi": [fmt(res["phi"][0]), fmt(res["phi"][1])],
-        "jacobian": None if jac is None else [[fmt(jac[i][j], nd) for j in range(2)] for i in range(2)],
-        "jacobian_digits": None if jac is None else nd,
-        "jacobian_note": res["jacobian_note"],
-        "events": [[e.kind, fmt(e.t), fmt(e.x), fmt(e.v), fmt(e.v_before)]
-                   for e in compare.canonical(res["events"], sc)],
-    }
 
 
 #: digits of a position-forced input's point run whose values its proof certifies
@@ -467,28 +318,6 @@ def _flint_version() -> str:
     return flint.__version__
 
 
-def dumps(data: dict) -> str:
-    """Deterministic JSON text: fixed key order, one-space indent, a list of scalars (an
-    event, a Jacobian row, Phi) on one line, trailing newline."""
-    return _dump(data, 0) + "\n"
-
-
-def _flat(value) -> bool:
-    return not isinstance(value, (dict, list)) or (
-        isinstance(value, list) and all(not isinstance(v, (dict, list)) for v in value))
-
-
-def _dump(value, depth: int) -> str:
-    if _flat(value):
-        return json.dumps(value, ensure_ascii=True)
-    pad, inner = " " * depth, " " * (depth + 1)
-    if isinstance(value, dict):
-        items = [f"{inner}{json.dumps(k)}: {_dump(v, depth + 1)}" for k, v in value.items()]
-        return "{\n" + ",\n".join(items) + "\n" + pad + "}"
-    items = [inner + _dump(v, depth + 1) for v in value]
-    return "[\n" + ",\n".join(items) + "\n" + pad + "]"
-
-
 def generate(names=None, out_dir=DEFAULT_DIR, n_sample: int = N_SAMPLE, progress=None) -> list:
     """Compute every scene first, then write all files (nothing written if a check fails)."""
     names = list(scenes.SCENES) if names is None else list(names)
@@ -503,54 +332,6 @@ def generate(names=None, out_dir=DEFAULT_DIR, n_sample: int = N_SAMPLE, progress
         path.write_text(text)
         paths.append(path)
     return paths
-
-
-def files(directory=None):
-    """A golden data directory: ``directory`` (or its ``golden/``, where ``verify --out DIR`` writes,
-    if ``directory`` itself holds no JSON), or by default the shipped one (``importlib.resources``:
-    works in a checkout and from a wheel alike)."""
-    if directory is not None:
-        base = pathlib.Path(directory)
-        if (base / "golden").is_dir() and not any(base.glob("*.json")):
-            return base / "golden"
-        return base
-    from importlib import resources
-    return resources.files("cross_check") / "data" / "golden"
-
-
-def load(name: str, directory=None) -> dict:
-    """Read the golden file of a scene (default: the shipped data, ``files()``); ``ValueError``
-    if the directory has none for that scene."""
-    path = files(directory) / (scenes.slug(name) + ".json")
-    if not path.is_file():
-        raise ValueError(f"no golden data for scene {name!r} in {files(directory)} (write it with "
-                         "`python -m cross_check golden` or `verify`)")
-    return json.loads(path.read_text())
-
-
-def names_in(directory=None) -> list[str]:
-    """The scenes a golden directory has files for: by default the built-in scenes (the shipped
-    data), else every ``*.json`` of ``directory`` with a ``scene`` record, by file name."""
-    if directory is None:
-        return [n for n in scenes.SCENES if (files() / (scenes.slug(n) + ".json")).is_file()]
-    base = files(directory)
-    if not base.is_dir():
-        raise ValueError(f"--golden-dir {directory}: not a directory")
-    out = []
-    for path in sorted(base.glob("*.json")):
-        try:
-            name = json.loads(path.read_text())["scene"]["name"]
-        except (ValueError, KeyError, TypeError):
-            continue                     # not a golden file (e.g. a scorecard): not ours to read
-        out.append(name)
-    if not out:
-        raise ValueError(f"--golden-dir {directory}: no golden files (*.json with a scene record) there")
-    return out
-
-
-def scene_of(data: dict, where: str = "golden file"):
-    """The scene a golden file was written for, from its exact record (``scenefile.from_record``)."""
-    return scenefile.from_record(data["scene"], where)
 
 
 def main(argv=None) -> int:
