@@ -3,8 +3,8 @@ cross_check/ import only downwards, with no circle anywhere.
 
 ``fast`` may read ``reference.scene`` (the problem definition) and nothing else of
 ``reference``; ``reference`` never imports ``fast`` or ``cross_check``; in ``cross_check``
-the layers run ``__main__ > verify > report | sensitivity | proofs | league > atlas | score | paper > golden > scenefile >
-scenes | dynamics > agreement > tolerances`` (``|``: neither imports the other), ``dynamics`` knows no scene table; the
+the layers run ``__main__ > verify > report | sensitivity | proofs | league > atlas | score | paper > golden >
+golden_proof | golden_runs > golden_files > scenefile > scenes | dynamics > agreement > tolerances`` (``|``: neither imports the other), ``dynamics`` knows no scene table; the
 league's peer adapters import no integration code of ``reference`` or ``fast``; and no
 package has an import circle among its modules.  The contracts live in ``pyproject.toml``
 under ``[tool.importlinter]``; this test runs import-linter.
