@@ -88,6 +88,37 @@ def test_a_restart_starts_at_a_tight_bounce_and_no_proof_of_chatter_has_none(fir
     assert golden_chatter.restarts(NARROW, plain) == []
 
 
+def test_a_run_with_no_tight_bounce_restarts_at_its_tightest_within_restart_loose(first):
+    """A chatter run none of whose impacts is within ``RESTART_RADIUS`` (its start near grazing)
+    restarts at its tightest impact where that one is within ``RESTART_LOOSE``, and has no restart
+    (the full pair decides) where it is not; the other runs keep their latest tight bounce.  The
+    first run's impacts are widened here to relative radii between the two bounds."""
+    import dataclasses
+
+    from flint import arb
+
+    _, res, enc = first
+    pairs = golden_chatter.restarts(NARROW, enc)
+    first_chatter = next(k for k, e in enumerate(enc.events) if e.kind == "chatter")
+    run = [m for m in range(first_chatter) if enc.events[m].kind == "impact"]
+    lo, hi = golden_chatter.RESTART_RADIUS, golden_chatter.RESTART_LOOSE
+    tightest = run[len(run) // 2]
+
+    def widened(rel):
+        out = list(enc.events)
+        for m in run:
+            e, r = out[m], (rel if m == tightest else 10 * rel)
+            ball = lambda b: arb(b.mid(), r * max(1.0, abs(float(b.mid()))))       # noqa: E731
+            out[m] = dataclasses.replace(e, t=ball(e.t), v=ball(e.v))
+        return type(enc)(True, events=out)
+
+    rel = (lo * hi) ** 0.5 / 10                   # the tightest within both bounds' span, the others past it
+    assert lo < golden_chatter._radius(widened(rel).events[tightest]) <= hi
+    got = golden_chatter.restarts(NARROW, widened(rel))
+    assert got == [(pairs[0][0], tightest)] + pairs[1:]
+    assert golden_chatter.restarts(NARROW, widened(hi * 2)) == []
+
+
 @pytest.mark.slow
 @settings(max_examples=6, deadline=None)
 @given(i=st.integers(1, 63), j=st.integers(-8, 8))
