@@ -274,8 +274,9 @@ def _refined(scene, xa, xb, T, digits, v0="0"):
     which fast's impact time jumps (``_fast_jump``) is refused before any reference run: its
     refinement would only find the jump.  Issue 33, the frictionless far corner ``F=2 f=0
     omega=0.5 l=-1 r=1 wavenumber=2``: its three brackets from rest are such jumps, and the
-    reference's two runs on each (at 40 digits, over ``5T/4``) took 1.3 CPU s a bracket (the
-    case 18.8 -> 15.0 CPU s, one run each, the same case)."""
+    reference's two runs on each (at 40 digits, over ``5T/4``) took 1.3 CPU s a bracket: each
+    bracket 1.4 -> 0.2 CPU s, the same case (the whole construction 18.8 and 18.0 CPU s, one run
+    each: the bracket that holds took 7.6 and 8.8, this machine's noise)."""
     na, nb = _narrowed(scene, xa, xb, v0)
     if (na, nb) != (xa, xb):
         if _fast_jump(scene, (xa, xb), (na, nb), v0):
