@@ -32,8 +32,8 @@ from cross_check import golden, scenefile, scenes
 from cross_check.agreement import compare
 from cross_check.dynamics import periodic
 from cross_check.report import sections
-from cross_check.verify import ladder
 from cross_check.score import card
+from cross_check.verify import ladder
 
 
 @dataclass(frozen=True)
