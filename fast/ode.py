@@ -28,13 +28,13 @@ from . import dop853 as dp
 from . import state as q
 from .jit import data_pointer, kernel
 from .ode_flight import EPS, NO_EVENT, TOO_FAST, VZERO, WALL, _fly, _force, flight
-from .ode_params import (DAMP, DD_SLOTS, SIZE, STEPS_PER_PERIOD, E, F, FF, K, L, R, T, W, XS, max_speed, p,
+from .ode_params import (DAMP, STEPS_PER_PERIOD, E, F, FF, K, L, R, T, W, XS, max_speed, p,
                          params, with_steps)
 from .output import out_of_events, record, store
 
 #: the engine's names that live in its two parts (``fast.api``, ``fast.batch`` and the tests
 #: read them here)
-__all__ = ["DD_SLOTS", "NO_EVENT", "SIZE", "STEPS_PER_PERIOD", "VZERO", "WALL", "flight", "max_speed", "p", "params",
+__all__ = ["NO_EVENT", "STEPS_PER_PERIOD", "VZERO", "WALL", "flight", "max_speed", "p", "params",
            "run_range", "run_state", "with_steps"]
 
 #: steps that count as one event against the budget

@@ -34,11 +34,10 @@ import mpmath
 
 from reference import taylor_float
 from reference.taylor_series import (EXTRA_BITS, GUARD_BITS, _fix, _fixed_horner, _main_fixed, _params,
-                                     _variational_fixed, choose_step, series, series_fixed, step_certificate,
-                                     taylor_order)
+                                     _variational_fixed, choose_step, series, step_certificate, taylor_order)
 
 #: the steps' names that the suite reads here (``reference.taylor_series``'s)
-__all__ = ["EXTRA_BITS", "GUARD_BITS", "series", "series_fixed", "step_certificate", "taylor_order", "TaylorFlight",
+__all__ = ["EXTRA_BITS", "GUARD_BITS", "series", "step_certificate", "taylor_order", "TaylorFlight",
            "make_flight", "equilibrium_intervals", "flight_matrix", "MAX_STEPS", "BOUND_WINDOWS"]
 
 #: bound on the number of Taylor steps of one flight

@@ -22,13 +22,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from cross_check.dynamics.newton import (FAST, MAX_NEWTON, NEAR_ONE, SEARCH_STEPS, SEARCH_TOL, NewtonResult,
-                                         Reference, map_and_jacobian, multipliers, newton, solve_step)
+from cross_check.dynamics.newton import FAST, MAX_NEWTON, SEARCH_STEPS, Reference, map_and_jacobian, multipliers, newton
 from cross_check.tolerances import tol
 
 __all__ = [  # newton's names, re-exported: periodic is where the suite asks for them
-    "FAST", "MAX_NEWTON", "NEAR_ONE", "SEARCH_STEPS", "SEARCH_TOL", "NewtonResult", "Reference", "map_and_jacobian",
-    "multipliers", "newton", "solve_step",
+    "FAST", "MAX_NEWTON", "SEARCH_STEPS", "Reference", "map_and_jacobian", "multipliers", "newton",
     # the classifier and the orbits
     "AREA_TOL", "PARABOLIC_TOL", "NONISOLATED_TOL", "classify", "is_saddle", "PeriodicPoint", "periodic_point",
     "orbit_points", "seed_grid", "find_periodic_points"]

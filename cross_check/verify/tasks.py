@@ -179,7 +179,7 @@ def orbits(rec: dict, period: int, depth: Depth) -> list:
     Third pass: the Newton search screens its seeds on ``fast``'s coarse map (``periodic``'s
     ``search_steps``): D's search 8.8 -> 3.6 s, the same points bit for bit (D's orbits task
     21.5 -> 17.0 s in a full verify, one run each).  Fourth pass: the default map polishes the
-    screen's ends instead of running from the seeds (``periodic.NEAR_ONE``): the search 3.4 to 5.1
+    screen's ends instead of running from the seeds (``dynamics.newton.NEAR_ONE``): the search 3.4 to 5.1
     -> 2.4 CPU s on the issue's first scene, the same points."""
     import fast
 
