@@ -77,6 +77,12 @@ FAMILY_SCREEN = 1e-6
 #: saddles: a seed's coarse end and its default-map path from the seed may reach different
 #: orbits); one run each, on a loaded 2-core machine.
 NEAR_ONE = 1e-4
+#: ``_two_stage``: a coarse end of a period-``k`` search within this of a fixed point of ``Phi^d``
+#: (``d`` a proper divisor of ``k``; ``|Phi^d(z) - z| / max(1, |z|)`` on the coarse map) is an
+#: orbit of the lower period (``_of_lower_period``), dropped before the default map polishes it.
+#: Ten times ``SEARCH_TOL``, the coarse run's own tolerance on ``Phi^k``; ``find_periodic_points``
+#: drops a point whose orbit repeats within ``dedup`` (1e-7) anyway.
+LOWER_PERIOD_TOL = 1e-6
 
 
 class _Fast:
@@ -260,16 +266,19 @@ def _two_stage(scene, x, v, period, tol, max_iter, v_bounds, steps):
     not converge -- an isolated point near ``tr = 2`` whose coarse end misses the default map's
     fixed point by ``|(P' - I)^-1|`` times the coarse map's error -- and one whose end converges
     to a point with a multiplier within ``NEAR_ONE`` of 1 off a family of an area-preserving map
-    (``_on_family`` of the coarse ``J``): the edge of a family of rest states, where a drift too
+    (``_on_family`` of the coarse ``J`` or of the default map's: ``_again``): the edge of a family
+    of rest states, where a drift too
     slow for the tolerance passes for a fixed point.  The others are reported not converged,
     where the screen left them.  Issue 33: the default map ran every seed from the seed before, ~10
     iterations with their line searches where a coarse end takes one or two (``NEAR_ONE``)."""
     x, v = FAST.asarray(x), FAST.asarray(v)
     bounds = v_bounds if v_bounds is not None else _default_v_bounds(scene, v)
     lo, hi = (np.broadcast_to(np.asarray(b, float), x.shape) for b in bounds)
-    coarse = newton(scene, x, v, period=period, engine=_Fast(steps), tol=max(SEARCH_TOL, tol or 0.0),
+    screen = _Fast(steps)
+    coarse = newton(scene, x, v, period=period, engine=screen, tol=max(SEARCH_TOL, tol or 0.0),
                     max_iter=max_iter, v_bounds=(lo, hi))
     near = np.flatnonzero(coarse.converged)
+    near = near[~_of_lower_period(scene, screen, coarse.x[near], coarse.v[near], period)]
     out = NewtonResult(coarse.x, coarse.v, coarse.J, coarse.residual, np.zeros(x.shape, bool),
                        coarse.iterations, coarse.gx, coarse.gv)
     if near.size:
@@ -277,11 +286,41 @@ def _two_stage(scene, x, v, period, tol, max_iter, v_bounds, steps):
         fine = newton(scene, coarse.x[near], coarse.v[near], period=period, tol=tol, max_iter=max_iter,
                       v_bounds=(lo[near], hi[near]))     # (fancy indexing: copies, as newton's iterates need)
         _merge(out, fine, near)
-        again = near[~fine.converged | (_near_one(fine.J) & ~family)]
+        again = near[_again(fine, family)]
         if again.size:
             _merge(out, newton(scene, x[again], v[again], period=period, tol=tol, max_iter=max_iter,
                                v_bounds=(lo[again], hi[again])), again)
     return out
+
+
+def _of_lower_period(scene, engine, x, v, period):
+    """Which of the states ``(x, v)`` (coarse ends of a period-``period`` search) are fixed points
+    of ``Phi^d`` on ``engine``'s map for a proper divisor ``d`` of ``period``, within
+    ``LOWER_PERIOD_TOL`` of ``max(1, |z|)``: orbits of a lower period, which the search of that
+    period finds and ``find_periodic_points`` drops here (its ``_minimal_period``)."""
+    low = np.zeros(x.shape, bool)
+    for d in (d for d in range(1, period) if period % d == 0):
+        if x.size:
+            X, V, _ = engine.map_jac(scene, x, v, d)
+            with np.errstate(invalid="ignore"):
+                low |= (np.maximum(np.abs(X - x), np.abs(V - v))
+                        <= LOWER_PERIOD_TOL * np.maximum(1, np.maximum(np.abs(x), np.abs(v))))
+    return low
+
+
+def _again(fine, family):
+    """Which of the coarse ends that the default map polished (``fine``, a ``NewtonResult``;
+    ``family``: ``_on_family`` of their coarse ``J``) run again from their seeds: those whose run
+    did not converge, and those polished to a multiplier within ``NEAR_ONE`` of 1 that is on no
+    family of an area-preserving map by the coarse ``J`` nor by the default map's own ``J`` at the
+    polished point (``_on_family``).  The second screen is the first's on the default map: a
+    member polished from the end is as good as one polished from the seed.  Issue 33, periods 1
+    to 3, 16 x 16 seeds, one run each: on ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2`` 15, 34 and
+    34 ends polished onto a family by the default map's ``J`` alone (the coarse map's lies up to
+    ~1e-3 off); run again, every one of them converged onto a family too, and the search's points
+    off ``tr = 2`` are the same bit for bit without those runs (also on ``F=3 f=0 omega=0.5 l=-2
+    r=2 wavenumber=2``: 18, 33 and 28 ends)."""
+    return ~fine.converged | (_near_one(fine.J) & ~family & ~_on_family(fine.J))
 
 
 def _merge(out, part, idx):
