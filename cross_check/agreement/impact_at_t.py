@@ -111,7 +111,7 @@ def logs(scene, x, v0, t_end, spent=None):
     receives their number of events (``MORE_EVENTS``)."""
     out = fast.events(scene, x, np.full_like(x, float(v0)), t_end)
     if spent is not None:
-        spent.append(sum(len(log) for log in out))
+        spent.append(int(out.n.sum()))
     return out
 
 
@@ -129,8 +129,30 @@ def _crossings(scene, x, v0="0", spent=None):
     ``[0, 5T/4]``; ``v0`` a decimal string, ``"0"``: from rest) whose ``j``-th event is an impact
     at the same wall, before ``T`` for one and after it for the other, with the same kinds before
     it (once per such ``j``: ``_crossing_times``)."""
-    logs_ = logs(scene, x, v0, 1.25 * scene.period, spent)
-    return [i for i in range(len(x) - 1) for _ in _crossing_times(scene, logs_[i], logs_[i + 1])]
+    return _crossing_pairs(scene, logs(scene, x, v0, 1.25 * scene.period, spent))
+
+
+def _crossing_pairs(scene, log):
+    """``_crossings`` on fast's ``EventLog`` of a scan, on its arrays: the ``i`` of each ``j`` at
+    which the logs of starts ``i`` and ``i + 1`` cross ``T`` (``_crossing_times``), in order of
+    ``i``, then ``j``.  Issue 33: reading the scans' logs event by event (``EventLog[i]``, one
+    ``Event`` record each) was ~3 CPU s of the states task of two unseen scenes (seed 5151's P1
+    and P3 of the verify benchmark's distribution), the same decisions in the same float64."""
+    l, r, T = scene.float("l"), scene.float("r"), scene.period
+    kind, t, x, n = log.kind.reshape(len(log), -1), log.t.reshape(len(log), -1), log.x.reshape(len(log), -1), log.n.ravel()
+    prefix = np.array([fast.KINDS.index(k) for k in sorted(PREFIX_KINDS)])
+    impact = fast.KINDS.index("impact")
+    alive = np.ones(max(len(log) - 1, 0), bool)
+    hits = []
+    for j in range(kind.shape[1]):
+        ka, kb = kind[:-1, j], kind[1:, j]
+        alive &= (j < n[:-1]) & (j < n[1:]) & (ka == kb) & np.isin(ka, prefix)
+        if not alive.any():
+            break
+        xa, xb, ta, tb = x[:-1, j], x[1:, j], t[:-1, j], t[1:, j]
+        same_wall = (np.abs(xa - r) < np.abs(xa - l)) == (np.abs(xb - r) < np.abs(xb - l))
+        hits += [(i, j) for i in np.flatnonzero(alive & (ka == impact) & same_wall & ((ta - T) * (tb - T) < 0))]
+    return [int(i) for i, _ in sorted(hits)]
 
 
 def _crossing_times(scene, a, b):
