@@ -13,7 +13,9 @@ Every compiled function of ``fast`` is decorated with :func:`kernel`:
   exception check on every division (the kernels test their own results);
 * ``fastmath=False`` (numba's default, written out): the double-double arithmetic of
   ``fast.dd`` relies on every operation being rounded as IEEE 754 says; reassociation or
-  contraction would silently destroy the error-free transformations.
+  contraction would silently destroy the error-free transformations;
+* one compiled copy of a function for every constant argument of a type (``_Dispatcher``): numba
+  would compile a callee again for each literal flag or offset a caller passes.
 
 :func:`fma` is the fused multiply-add ``a * b + c`` with one rounding (LLVM's
 ``llvm.fma.f64``: one instruction on x86-64 with FMA3, a correctly rounded library call
@@ -24,10 +26,10 @@ from __future__ import annotations
 import hashlib
 import pathlib
 
-import numba
 from llvmlite import ir
 from numba import types
 from numba.core import caching, cgutils
+from numba.core.registry import CPUDispatcher
 from numba.extending import intrinsic
 
 OPTIONS = dict(nogil=True, error_model="numpy", fastmath=False)
@@ -64,12 +66,31 @@ class _Cache(caching.FunctionCache):
     _impl_class = _Impl
 
 
+class _Dispatcher(CPUDispatcher):
+    """numba's CPU dispatcher, which types a call from compiled code on the arguments' plain
+    types: a constant argument (a flag, a slot offset, a tuple of slots) is an ``int64``, a
+    ``bool`` or a ``UniTuple``, not a ``Literal`` that numba would compile a copy of the callee
+    for.  The code is the same but for the constants' folding: ``fastmath`` is off, so every
+    floating-point operation, and so every number, is the same.  Issue 33: cold, the two
+    engines compiled six callees twice or thrice (``roots._plan`` for ``plan`` and
+    ``plan_crawl``, ``loop._finish_flight``, ``dop853.step`` and ``rhs``, ``compensated.step``,
+    ``ode_flight``'s root finders): ~10 of the ~37 CPU s of the closed-form engine and of the
+    ~29 of position forcing's, paid by every first run of a fresh clone."""
+
+    def get_call_template(self, args, kws):
+        return super().get_call_template(tuple(types.unliteral(a) for a in args),
+                                         {k: types.unliteral(t) for k, t in kws.items()})
+
+
 def kernel(fn=None, *, inline=False):
     """``numba.njit`` with ``fast``'s options and the package-stamped cache (module
-    docstring); ``inline=True``: inlined into its callers by numba (small hot helpers)."""
+    docstring); ``inline=True``: inlined into its callers by numba (small hot helpers).  The
+    dispatcher is :class:`_Dispatcher`: one compiled copy of a function for all constant
+    arguments of a type."""
     if fn is None:
         return lambda f: kernel(f, inline=inline)
-    dispatcher = numba.njit(inline="always" if inline else "never", **OPTIONS)(fn)
+    options = {**OPTIONS, "nopython": True, "boundscheck": None, "inline": "always" if inline else "never"}
+    dispatcher = _Dispatcher(py_func=fn, locals={}, targetoptions=options)
     dispatcher._cache = _Cache(fn)          # what numba's enable_caching() does
     return dispatcher
 
