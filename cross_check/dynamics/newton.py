@@ -261,14 +261,15 @@ def _default_v_bounds(scene, v):
 def _two_stage(scene, x, v, period, tol, max_iter, v_bounds, steps):
     """``newton`` on ``fast``'s coarse map (``steps`` per period) to ``SEARCH_TOL`` screens the
     seeds; the default map then polishes the coarse ends of the seeds that got there, each
-    exactly as alone (per-seed ``v_bounds``).  From the seed instead, as alone (the default map's
+    exactly as alone (per-seed ``v_bounds``), but for the ends of a lower period
+    (``_of_lower_period``: reported not converged, as ``find_periodic_points`` would drop their
+    points for their minimal period).  From the seed instead, as alone (the default map's
     whole Newton path, as the search without a screen runs it): a seed whose run from its end does
     not converge -- an isolated point near ``tr = 2`` whose coarse end misses the default map's
     fixed point by ``|(P' - I)^-1|`` times the coarse map's error -- and one whose end converges
     to a point with a multiplier within ``NEAR_ONE`` of 1 off a family of an area-preserving map
     (``_on_family`` of the coarse ``J`` or of the default map's: ``_again``): the edge of a family
-    of rest states, where a drift too
-    slow for the tolerance passes for a fixed point.  The others are reported not converged,
+    of rest states, where a drift too slow for the tolerance passes for a fixed point.  The others are reported not converged,
     where the screen left them.  Issue 33: the default map ran every seed from the seed before, ~10
     iterations with their line searches where a coarse end takes one or two (``NEAR_ONE``)."""
     x, v = FAST.asarray(x), FAST.asarray(v)
