@@ -139,7 +139,8 @@ def _crossing_pairs(scene, log):
     ``Event`` record each) was ~3 CPU s of the states task of two unseen scenes (seed 5151's P1
     and P3 of the verify benchmark's distribution), the same decisions in the same float64."""
     l, r, T = scene.float("l"), scene.float("r"), scene.period
-    kind, t, x, n = log.kind.reshape(len(log), -1), log.t.reshape(len(log), -1), log.x.reshape(len(log), -1), log.n.ravel()
+    kind, t, x = (a.reshape(len(log), -1) for a in (log.kind, log.t, log.x))
+    n = log.n.ravel()
     prefix = np.array([fast.KINDS.index(k) for k in sorted(PREFIX_KINDS)])
     impact = fast.KINDS.index("impact")
     alive = np.ones(max(len(log) - 1, 0), bool)

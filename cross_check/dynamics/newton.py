@@ -269,9 +269,10 @@ def _two_stage(scene, x, v, period, tol, max_iter, v_bounds, steps):
     fixed point by ``|(P' - I)^-1|`` times the coarse map's error -- and one whose end converges
     to a point with a multiplier within ``NEAR_ONE`` of 1 off a family of an area-preserving map
     (``_on_family`` of the coarse ``J`` or of the default map's: ``_again``): the edge of a family
-    of rest states, where a drift too slow for the tolerance passes for a fixed point.  The others are reported not converged,
-    where the screen left them.  Issue 33: the default map ran every seed from the seed before, ~10
-    iterations with their line searches where a coarse end takes one or two (``NEAR_ONE``)."""
+    of rest states, where a drift too slow for the tolerance passes for a fixed point.  The others
+    are reported not converged, where the screen left them.  Issue 33: the default map ran every
+    seed from the seed before, ~10 iterations with their line searches where a coarse end takes
+    one or two (``NEAR_ONE``)."""
     x, v = FAST.asarray(x), FAST.asarray(v)
     bounds = v_bounds if v_bounds is not None else _default_v_bounds(scene, v)
     lo, hi = (np.broadcast_to(np.asarray(b, float), x.shape) for b in bounds)
@@ -300,12 +301,11 @@ def _of_lower_period(scene, engine, x, v, period):
     ``LOWER_PERIOD_TOL`` of ``max(1, |z|)``: orbits of a lower period, which the search of that
     period finds and ``find_periodic_points`` drops here (its ``_minimal_period``)."""
     low = np.zeros(x.shape, bool)
-    for d in (d for d in range(1, period) if period % d == 0):
-        if x.size:
-            X, V, _ = engine.map_jac(scene, x, v, d)
-            with np.errstate(invalid="ignore"):
-                low |= (np.maximum(np.abs(X - x), np.abs(V - v))
-                        <= LOWER_PERIOD_TOL * np.maximum(1, np.maximum(np.abs(x), np.abs(v))))
+    for d in (d for d in range(1, period) if period % d == 0 and x.size):
+        X, V, _ = engine.map_jac(scene, x, v, d)
+        with np.errstate(invalid="ignore"):
+            low |= (np.maximum(np.abs(X - x), np.abs(V - v))
+                    <= LOWER_PERIOD_TOL * np.maximum(1, np.maximum(np.abs(x), np.abs(v))))
     return low
 
 
