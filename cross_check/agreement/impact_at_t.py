@@ -129,45 +129,35 @@ def _crossings(scene, x, v0="0", spent=None):
     ``[0, 5T/4]``; ``v0`` a decimal string, ``"0"``: from rest) whose ``j``-th event is an impact
     at the same wall, before ``T`` for one and after it for the other, with the same kinds before
     it (once per such ``j``: ``_crossing_times``)."""
-    return _crossing_pairs(scene, logs(scene, x, v0, 1.25 * scene.period, spent))
+    starts = np.arange(len(x) - 1)
+    return [i for i, _ in _crossing_times(scene, logs(scene, x, v0, 1.25 * scene.period, spent), starts, starts + 1)]
 
 
-def _crossing_pairs(scene, log):
-    """``_crossings`` on fast's ``EventLog`` of a scan, on its arrays: the ``i`` of each ``j`` at
-    which the logs of starts ``i`` and ``i + 1`` cross ``T`` (``_crossing_times``), in order of
-    ``i``, then ``j``.  Issue 33: reading the scans' logs event by event (``EventLog[i]``, one
-    ``Event`` record each) was ~3 CPU s of the states task of two unseen scenes (seed 5151's P1
-    and P3 of the verify benchmark's distribution), the same decisions in the same float64."""
+def _crossing_times(scene, log, a, b):
+    """``[(p, (t_j - T, t'_j - T))]`` for each ``j`` at which the logs of starts ``a[p]`` and
+    ``b[p]`` of fast's ``EventLog`` cross ``T``: along their common prefix of kinds in
+    ``PREFIX_KINDS``, the ``j``-th events are impacts at the same wall, one before ``T`` and one
+    after it.  In order of ``p``, then ``j``.  Read on the log's arrays, column by column: issue
+    33, reading the scans' logs event by event (``EventLog[i]``, one ``Event`` record each) was
+    ~3 CPU s of the states task of two unseen scenes (seed 5151's P1 and P3 of the verify
+    benchmark's distribution); 649 scans of 21 scenes 40.1 -> 2.8 CPU s, the same brackets."""
     l, r, T = scene.float("l"), scene.float("r"), scene.period
-    kind, t, x = (a.reshape(len(log), -1) for a in (log.kind, log.t, log.x))
+    kind, t, x = (arr.reshape(len(log), -1) for arr in (log.kind, log.t, log.x))
     n = log.n.ravel()
     prefix = np.array([fast.KINDS.index(k) for k in sorted(PREFIX_KINDS)])
     impact = fast.KINDS.index("impact")
-    alive = np.ones(max(len(log) - 1, 0), bool)
+    alive = np.ones(len(a), bool)
     hits = []
     for j in range(kind.shape[1]):
-        ka, kb = kind[:-1, j], kind[1:, j]
-        alive &= (j < n[:-1]) & (j < n[1:]) & (ka == kb) & np.isin(ka, prefix)
+        ka, kb = kind[a, j], kind[b, j]
+        alive &= (j < n[a]) & (j < n[b]) & (ka == kb) & np.isin(ka, prefix)
         if not alive.any():
             break
-        xa, xb, ta, tb = x[:-1, j], x[1:, j], t[:-1, j], t[1:, j]
+        xa, xb, ta, tb = x[a, j], x[b, j], t[a, j] - T, t[b, j] - T
         same_wall = (np.abs(xa - r) < np.abs(xa - l)) == (np.abs(xb - r) < np.abs(xb - l))
-        hits += [(i, j) for i in np.flatnonzero(alive & (ka == impact) & same_wall & ((ta - T) * (tb - T) < 0))]
-    return [int(i) for i, _ in sorted(hits)]
-
-
-def _crossing_times(scene, a, b):
-    """``(t_j - T, t'_j - T)`` for each ``j`` at which fast's logs ``a`` and ``b`` cross ``T``
-    (``_crossings``), in order."""
-    l, r, T = scene.float("l"), scene.float("r"), scene.period
-    for ea, eb in zip(a, b):                       # the common prefix of the two itineraries
-        if ea.kind != eb.kind or ea.kind not in PREFIX_KINDS | {"impact"}:
-            return
-        same_wall = (abs(ea.x - r) < abs(ea.x - l)) == (abs(eb.x - r) < abs(eb.x - l))
-        if ea.kind == "impact" and same_wall and (ea.t - T) * (eb.t - T) < 0:
-            yield ea.t - T, eb.t - T
-        if ea.kind not in PREFIX_KINDS:
-            return
+        hits += [(int(p), j, (float(ta[p]), float(tb[p])))
+                 for p in np.flatnonzero(alive & (ka == impact) & same_wall & (ta * tb < 0))]
+    return [(p, times) for p, _, times in sorted(hits)]
 
 
 def speeds(scene, units=None) -> list:
@@ -319,7 +309,8 @@ def _fast_jump(scene, wide, narrow, v0) -> bool:
     only find again (``_refine``: 15 runs on the frictionless far corner of issue 33, twice).
     fast only screens: a jump it sees costs a bracket, never a wrong case."""
     ends = logs(scene, np.array([wide[0], narrow[0], narrow[1], wide[1]]), v0, 1.25 * scene.period)
-    h = [next(_crossing_times(scene, ends[a], ends[b]), None) for a, b in ((0, 3), (1, 2))]
+    hits = _crossing_times(scene, ends, np.array([0, 1]), np.array([3, 2]))
+    h = [next((times for q, times in hits if q == p), None) for p in (0, 1)]
     if None in h:
         return False
     slope = abs(h[0][1] - h[0][0]) / (wide[1] - wide[0])
