@@ -232,9 +232,10 @@ def warm_up(*, closed_form: bool = True, position_forcing: bool = True) -> dict:
 
     The first call of any function on an engine compiles that engine's whole event loop (one
     set of kernels serves every function, with or without the Jacobian, any thread count):
-    cold, about 33 CPU s for the closed-form loop (``fast.loop``) and 22 s for the numerical
+    cold, about 22 CPU s for the closed-form loop (``fast.loop``) and 14 s for the numerical
     flights of position forcing (``fast.ode``) on the 2-core machine of issue 33 (40 and 30
-    before ``fast.jit._Dispatcher``; ~2.5x a quieter machine's figures); from the cache, well
+    before ``fast.jit._Dispatcher``, 33 and 22 before inlining was left to LLVM: ``fast.jit``;
+    ~2.5x a quieter machine's figures); from the cache, well
     under a second.  A program that wants the compilation out of its timings, or on another
     core, calls this first (``python -m cross_check report`` compiles the two engines in two
     processes at once).  The call is one period of one state of a small scene of each engine."""

@@ -50,7 +50,7 @@ THI, TLO, TEND_LO, EXH, EXL, EVH, EVL = range(dp.SIZE, dp.SIZE + 7)
 SIZE = dp.SIZE + 7
 
 
-@kernel(inline=True)
+@kernel
 def reset(wk, t_end_lo):
     """A new state (or flight of ``fast.ode.flight``): no low part of the clock is valid, the
     run ends at ``t_end + t_end_lo``."""
@@ -58,7 +58,7 @@ def reset(wk, t_end_lo):
     wk[TEND_LO] = t_end_lo
 
 
-@kernel(inline=True)
+@kernel
 def begin(wk, t, P, slots):
     """A flight from the float64 state ``wk[Y0]`` at ``t``: the low part of ``x`` is the last
     event's if ``x`` is its position (a turn, or rest there since), else the wall's if ``x``
@@ -88,7 +88,7 @@ def begin(wk, t, P, slots):
             wk[dp.L0 + 1] = err - (e * wk[EVL] + e_lo * wk[EVH])
 
 
-@kernel(inline=True)
+@kernel
 def length(h_max, t, t_end, wk):
     """``(h, last)``: the step, ``h_max``, or what is left to ``t_end + wk[TEND_LO]`` (``last``)
     where that is shorter or exceeds it by less than the time resolution ``4 eps |t_end|``
@@ -112,7 +112,7 @@ def _trig(ah, al):
     return ch, cl, sh, sl
 
 
-@kernel(inline=True)
+@kernel
 def constants(P, slots):
     """The scene's constants as double-doubles, ``(F, F_lo, f, f_lo, c, c_lo, k, k_lo, w, w_lo,
     e, e_lo, l, l_lo, r, r_lo)`` (the first ten are ``fast.dop853.rhs``' ``cst``), from the
@@ -159,7 +159,7 @@ def event(wk, t, d, h, n, wall, wall_lo, at_wall):
     return at(wk, t, d + dt)
 
 
-@kernel(inline=True)
+@kernel
 def at(wk, t, d):
     """The clock moved to ``t + wk[TLO] + d``: returns its high part (``wk[THI]``)."""
     hi, lo = dd.two_sum(t, d)
@@ -168,7 +168,7 @@ def at(wk, t, d):
     return hi
 
 
-@kernel(inline=True)
+@kernel
 def advance(wk, t, h, last, t_end, n):
     """Accept the step: ``Y0 + L0 <- Y1 + L1``, the clock ``+ h`` (``t_end + TEND_LO`` after
     the last step).  Returns the new ``t``."""

@@ -127,7 +127,7 @@ with mpmath.workdps(40):
     P6_HI, P6_LO = -M6_HI, -M6_LO
 
 
-@kernel(inline=True)
+@kernel
 def _sincos_small(rh, rl):
     """``sin r``, ``cos r`` as double-doubles for ``|r| <= pi/64``."""
     r2h, r2l = mul(rh, rl, rh, rl)
@@ -144,7 +144,7 @@ def _sincos_small(rh, rl):
     return sh, sl, ch, cl
 
 
-@kernel(inline=True)
+@kernel
 def sincos(ah, al):
     """``(sin a, cos a)`` of the double-double ``a = ah + al``: ``(sh, sl, ch, cl)``."""
     k = np.rint(ah * INV_PI32)
@@ -166,7 +166,7 @@ def sincos(ah, al):
     return s_h, s_l, c_h, c_l
 
 
-@kernel(inline=True)
+@kernel
 def sincos64(a):
     """``(sin a, cos a)`` in float64 for the event search (within 2 ulp; no libm call):
     the same reduction and table as ``sincos``, the series in float64."""

@@ -101,7 +101,7 @@ CW, CWL, SW, SWL, CK, CKL, SK, SKL = range(TRIG, TRIG + 8)
 SIZE = 7 * NK + 87
 
 
-@kernel(inline=True)
+@kernel
 def _small(d):
     """``(cos d - 1, sin d)`` for a small angle ``d`` (series; libm above ``SMALL``)."""
     if abs(d) > SMALL:
@@ -184,7 +184,7 @@ def step(cst, s, h, wk, n, dense):
             wk[Q + 18 + 6 * j + m] = h * acc
 
 
-@kernel(inline=True)
+@kernel
 def _end(h, wk, n):
     """``Y1 + L1 = Y0 + L0 + dy`` (module docstring): ``dy = dh + dl``, the sum exact up to the
     rounding of ``L0 + dl``; ``DX1 <- x1 - x0``."""
@@ -216,7 +216,7 @@ def _end(h, wk, n):
         wk[Y1 + m], wk[L1 + m] = dd.two_sum(y1, e + (wk[L0 + m] + dl))
 
 
-@kernel(inline=True)
+@kernel
 def dense_eval(wk, theta, n):
     """``wk[YD] <-`` the continuous extension at ``theta`` in ``[0, 1]`` (rounded)."""
     for m in range(n):

@@ -50,7 +50,7 @@ PHI2 = tuple((-1) ** k / math.factorial(k + 2) for k in range(15))
 (Q0, Q1, Q2, Q3, Q4, Q5, Q6, Q7, Q8, Q9, Q10, Q11, Q12, Q13, Q14) = PHI2
 
 
-@kernel(inline=True)
+@kernel
 def theta_minus_sin(theta, S, C):
     """``theta - sin(theta)`` for ``theta >= 0`` given ``S, C = sin, cos(theta/2)``."""
     if theta > 0.5:
@@ -71,7 +71,7 @@ def phi2(y):
     return acc
 
 
-@kernel(inline=True)
+@kernel
 def factors(P, h):
     """``(a1, E)`` of the flight matrix ``[[1, a1], [0, E]]``: ``(h, 1)`` undamped,
     ``((1 - exp(-c h))/c, exp(-c h))`` damped."""
@@ -82,7 +82,7 @@ def factors(P, h):
     return -math.expm1(-y) / c, math.exp(-y)
 
 
-@kernel(inline=True)
+@kernel
 def evaluate(P, h, v0, s, sn0, cs0):
     """Float64 flight values at ``t0 + h``: ``(dx, v, cos wt, sin wt)``, ``dx = x - x0``."""
     half = (0.5 * P[p.W]) * h
@@ -153,7 +153,7 @@ def evaluate_dd(P, st_v0h, st_v0l, s, snh, snl, csh, csl, hh, hl, th, tl):
     return dxh, dxl, vh, vl, acceleration_hi(P, s, n_ch, vh), n_sh, n_sl, n_ch, n_cl
 
 
-@kernel(inline=True)
+@kernel
 def _direct_dd(P, v0h, v0l, s, snh, snl, csh, csl, hh, hl, qh, ql, th, tl):
     """``evaluate_dd`` of an undamped flight with ``theta > DIRECT_FROM`` at the phase ``w t``
     itself: ``sin wt, cos wt`` from one ``dd.sincos`` (absolute error < 1e-22), ``sin wt - sin
@@ -173,7 +173,7 @@ def _direct_dd(P, v0h, v0l, s, snh, snl, csh, csl, hh, hl, qh, ql, th, tl):
     return dxh, dxl, vh, vl, acceleration_hi(P, s, n_ch, vh), n_sh, n_sl, n_ch, n_cl
 
 
-@kernel(inline=True)
+@kernel
 def _undamped_rest(P, v0h, v0l, s, hh, hl, a, b, vh, vl):
     """``dx = (F/w^2) (a + b) + v0 h - s f h^2 / 2`` and ``v - s f h`` in double-double, with
     ``a + b = cos wt0 - cos wt - theta sin wt0``."""
@@ -200,7 +200,7 @@ def acceleration(P, s, csh, csl, vh, vl):
     return ah, al
 
 
-@kernel(inline=True)
+@kernel
 def acceleration_hi(P, s, csh, vh):
     """The high part of ``acceleration`` (the same roundings: the high part of a ``dd.mul``
     is the product of the high parts, of a ``dd.add`` the rounded sum of the high parts)

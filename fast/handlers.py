@@ -29,13 +29,13 @@ from .modes import chatter_state, chatter_tail, exit_time, slides, stick_exit, w
 EPS = 2.0 ** -52
 
 
-@kernel(inline=True)
+@kernel
 def took(st, path):
     """Record that the state took the code path ``path`` (a ``PATH_*`` bit)."""
     st[q.PATHS] = float(int(st[q.PATHS]) | path)
 
 
-@kernel(inline=True)
+@kernel
 def finish(st, x, v):
     """The state is finished at ``(x, v)``; returns ``True``."""
     st[q.XF] = x
@@ -43,7 +43,7 @@ def finish(st, x, v):
     return True
 
 
-@kernel(inline=True)
+@kernel
 def flight_matrix(P, st, h):
     """``J <- [[1, a1], [0, E]] J`` for a flight of duration ``h``."""
     a1, E = factors(P, h)
@@ -53,13 +53,13 @@ def flight_matrix(P, st, h):
     st[q.J22] *= E
 
 
-@kernel(inline=True)
+@kernel
 def zero_jacobian(st):
     for k in range(4):
         st[q.J11 + k] = 0.0
 
 
-@kernel(inline=True)
+@kernel
 def start_segment(P, st, t, tl, xh, xl, vh, vl, s, trig):
     """A new flight segment from the double-double ``(t, x, v)`` with sign ``s`` and the
     start trig ``trig = (sn, sn_lo, cs, cs_lo)``."""
@@ -73,7 +73,7 @@ def start_segment(P, st, t, tl, xh, xl, vh, vl, s, trig):
     st[q.SPEC], st[q.NFAIL], st[q.NIT] = 0.0, 0.0, 0.0
 
 
-@kernel(inline=True)
+@kernel
 def exit_trig(P, trig, side):
     """The trig at a stick exit or wall release that does not happen at once: the phase is
     ``pi - alpha`` (``side > 0``: cos = -c, sin = sin(alpha)) or ``2 pi - alpha``."""

@@ -15,7 +15,15 @@ Every compiled function of ``fast`` is decorated with :func:`kernel`:
   ``fast.dd`` relies on every operation being rounded as IEEE 754 says; reassociation or
   contraction would silently destroy the error-free transformations;
 * one compiled copy of a function for every constant argument of a type (``_Dispatcher``): numba
-  would compile a callee again for each literal flag or offset a caller passes.
+  would compile a callee again for each literal flag or offset a caller passes;
+* no inlining by numba (``inline="never"``): LLVM inlines at ``-O3`` what pays, on the linked
+  module.  numba's own inlining (``inline="always"``, once on 47 small helpers) deep-copied and
+  typed a helper's body again at every call site: issue 33, cold, fast's closed-form engine
+  compiled in 25.3 CPU s without it against 33 with it, position forcing's in 15.4 against 20.3
+  (2-core machine, one run each).  LLVM leaves about ten helpers as calls (``dd.sincos``,
+  ``flight.evaluate``, ``roots.analyze`` among them); the run time is the same (best of five,
+  eight alternations, four workloads of ``map_and_jacobian``: within 4%, either way), and so is
+  every number, bit for bit (``fastmath`` is off: the operations are the same in the same order).
 
 :func:`fma` is the fused multiply-add ``a * b + c`` with one rounding (LLVM's
 ``llvm.fma.f64``: one instruction on x86-64 with FMA3, a correctly rounded library call
@@ -83,14 +91,11 @@ class _Dispatcher(CPUDispatcher):
                                          {k: types.unliteral(t) for k, t in kws.items()})
 
 
-def kernel(fn=None, *, inline=False):
+def kernel(fn):
     """``numba.njit`` with ``fast``'s options and the package-stamped cache (module
-    docstring); ``inline=True``: inlined into its callers by numba (small hot helpers).  The
-    dispatcher is :class:`_Dispatcher`: one compiled copy of a function for all constant
-    arguments of a type."""
-    if fn is None:
-        return lambda f: kernel(f, inline=inline)
-    options = {**OPTIONS, "nopython": True, "boundscheck": None, "inline": "always" if inline else "never"}
+    docstring).  The dispatcher is :class:`_Dispatcher`: one compiled copy of a function for
+    all constant arguments of a type."""
+    options = {**OPTIONS, "nopython": True, "boundscheck": None, "inline": "never"}
     dispatcher = _Dispatcher(py_func=fn, locals={}, targetoptions=options)
     dispatcher._cache = _Cache(fn)          # what numba's enable_caching() does
     return dispatcher

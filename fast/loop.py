@@ -78,7 +78,7 @@ def _finish_flight(P, st, t_end, t_end_lo, jac, known, x, v):
     finish(st, x, v)
 
 
-@kernel(inline=True)
+@kernel
 def _at_trial(P, st, b, t_end, t_end_lo):
     """The flight at the trial ``b`` for the search: ``(dx, v, cos wt, sin wt, x_end, v_end,
     end_lo)``.  At ``b = t_end`` it comes from the double-double flight there (its high

@@ -26,7 +26,7 @@ from .jit import kernel
 EPS = 2.0 ** -52
 
 
-@kernel(inline=True)
+@kernel
 def slides(P, s, cs, sn):
     """Whether a flight of sign ``s`` leaving rest at the phase ``(cos, sin)`` slides: its
     acceleration ``a = s F cos - f`` is positive and, where it falls (``a' = -s F w sin <

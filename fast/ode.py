@@ -47,7 +47,7 @@ FLIGHT, STICK, CONTACT = 0, 1, 2
 SLIVER = 16 * EPS * 2 * math.pi
 
 
-@kernel(inline=True)
+@kernel
 def first_above(amp, level, w, t):
     """First ``tau >= t`` with ``amp cos(w tau) > level`` on a right-neighbourhood (``inf`` if
     ``|amp| <= level``): with ``alpha = arccos(level/|amp|)`` and the phase ``phi = (w t + (0
@@ -67,7 +67,7 @@ def first_above(amp, level, w, t):
     return t + (2 * math.pi - alpha - phi) / w
 
 
-@kernel(inline=True)
+@kernel
 def _times(st, a11, a12, a21, a22):
     """``J <- M J`` with ``M = [[a11, a12], [a21, a22]]``."""
     j11, j12, j21, j22 = st[q.J11], st[q.J12], st[q.J21], st[q.J22]
@@ -136,7 +136,7 @@ def _impact(P, st, ev, t, vb, t_end, jac):
     return FLIGHT, t
 
 
-@kernel(inline=True)
+@kernel
 def _rest_on(P, st, jac, side):
     """At rest on wall ``side`` (the contact matrix: ``Phi'`` is zero)."""
     st[q.ZV] = 1.0

@@ -55,12 +55,12 @@ NO_EVENT, WALL, VZERO, TOO_FAST = 0, 1, 2, -2
 
 
 # --- the flight: steps, and the certified first event on the dense output ----------------
-@kernel(inline=True)
+@kernel
 def _force(P, x, t):
     return P[F] * math.cos(P[K] * x) * math.cos(P[W] * t)
 
 
-@kernel(inline=True)
+@kernel
 def _g(P, s, wall, t, x, v, which):
     """Event function ``which`` (0: wall, 1: velocity) and its time derivative."""
     if which == 0:
@@ -68,7 +68,7 @@ def _g(P, s, wall, t, x, v, which):
     return s * v, s * (_force(P, x, t) - s * P[FF] - P[DAMP] * v)
 
 
-@kernel(inline=True)
+@kernel
 def _step_len(P, av):
     """``h = 2 pi / (S Lambda)``, ``Lambda = max(w, k |v|, sqrt(F k), c, sqrt((F + f) / X))``:
     the fastest of the forcing, the phase rate of ``cos(k x)``, the linearised ``x'' = F cos(k
@@ -81,7 +81,7 @@ def _step_len(P, av):
     return 2 * math.pi / (P[SPP] * lam)
 
 
-@kernel(inline=True)
+@kernel
 def _bounds(P, av, h):
     """``(max |x''|, max |v''|)`` over a step of length ``h`` from speed ``av``."""
     Ff, c = P[F] + P[FF], P[DAMP]
@@ -90,7 +90,7 @@ def _bounds(P, av, h):
     return amax, P[F] * P[W] + P[F] * P[K] * vmax + c * amax
 
 
-@kernel(inline=True)
+@kernel
 def _g_at(P, s, wall, t, h, wk, n, which, theta):
     """Event function ``which`` on the dense output at ``theta``: ``(g, dg/dtheta)``."""
     dp.dense_eval(wk, theta, n)

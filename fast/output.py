@@ -22,14 +22,14 @@ from .jit import kernel
 BOUNCE_RUN = 1000
 
 
-@kernel(inline=True)
+@kernel
 def out_of_events(st):
     """The status of a state whose event budget (``max_events``) ran out: ``BOUNCE_BUDGET`` in a
     run of at least ``BOUNCE_RUN`` impacts at one wall, else ``EVENT_BUDGET``."""
     return BOUNCE_BUDGET if abs(st[q.CHN]) >= BOUNCE_RUN else EVENT_BUDGET
 
 
-@kernel(inline=True)
+@kernel
 def record(ev, st, kind, t, x, v, vb, cnt):
     """Append an event to the state's log ``ev`` (kept up to its capacity; ``NEV`` counts
     them all)."""
@@ -40,7 +40,7 @@ def record(ev, st, kind, t, x, v, vb, cnt):
         ev[j], ev[j + 1], ev[j + 2], ev[j + 3], ev[j + 4], ev[j + 5] = kind, t, x, v, vb, cnt
 
 
-@kernel(inline=True)
+@kernel
 def store(i, status, ok, non_finite, st, ev, jac, out_x, out_v, out_zv, out_J, out_nev, out_status,
           out_paths, log_kind, log_t, log_x, log_v, log_vb, log_cnt):
     """Row ``i`` of the outputs from the finished state's record and log (``status`` becomes

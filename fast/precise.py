@@ -36,7 +36,7 @@ from .jit import kernel
 from .roots import bounds
 
 
-@kernel(inline=True)
+@kernel
 def flight_at(P, st, t_hi, t_lo):
     """``evaluate_dd`` of the current segment at the double-double time ``t_hi + t_lo``."""
     hh, hl = dd.add(t_hi, t_lo, -st[q.T0], -st[q.T0LO])
@@ -46,7 +46,7 @@ def flight_at(P, st, t_hi, t_lo):
                        st[q.CS0LO], hh, hl, t_hi, t_lo)
 
 
-@kernel(inline=True)
+@kernel
 def end_state(P, st, dxh, dxl, vh, vl):
     """Float64 ``(x, v)`` at the end from the double-double flight values there (``x``
     clipped to the gap: rounding at a touch)."""
@@ -61,7 +61,7 @@ def at_end(P, st, t_end, t_end_lo):
     return end_state(P, st, dxh, dxl, vh, vl)
 
 
-@kernel(inline=True)
+@kernel
 def _step(P, st, code, dxh, dxl, vh, vl, ah, csh, csl, convert):
     """``(code, d)``: the event kind after the double-double tangency check (``convert``)
     and the step ``d`` onto it (0 where it would exceed ``d_acc``: a tangency the model

@@ -84,7 +84,7 @@ def _crawl(res, g, g1, g2, M3, H_cap):
     return max(safe, min(0.999 * h, H_cap)), est, acc, back
 
 
-@kernel(inline=True)
+@kernel
 def _forward(g1, g2, M, M3, H_cap, gp, g1sq, sq):
     """The root-free step ``safe`` from ``g = gp > 0`` (module docstring: the local minorant
     on ``[0, H]``, capped by ``H``; ``sq = sqrt(g'^2 + 2 M g)``)."""
@@ -101,7 +101,7 @@ def _forward(g1, g2, M, M3, H_cap, gp, g1sq, sq):
     return min(hl, H)
 
 
-@kernel(inline=True)
+@kernel
 def _predict(g, g1, g2, g3, pos, neg):
     """``(est, disc)``: the quadratic model's root nearest to 0 in the crossing direction,
     refined by one safeguarded Newton step on the cubic model (``inf``: none)."""
@@ -122,7 +122,7 @@ def _predict(g, g1, g2, g3, pos, neg):
     return est, disc
 
 
-@kernel(inline=True)
+@kernel
 def analyze(g, g1, g2, g3, M, M3, H_cap, tol, noise, d_acc, fresh, need_back, lazy):
     """``(safe, est, acc, back)`` for one event function at a point (module docstring):
     ``g`` has no root on ``[b, b + safe)``; ``est`` is the predicted root offset (``inf``
@@ -163,7 +163,7 @@ def analyze(g, g1, g2, g3, M, M3, H_cap, tol, noise, d_acc, fresh, need_back, la
     return (_forward(g1, g2, M, M3, H_cap, gp, g1sq, sq) if pos else 0.0), est, acc, back
 
 
-@kernel(inline=True)
+@kernel
 def _forward_at(g, g1, g2, M, M3, H_cap):
     """``analyze``'s forward step alone (``g > 0``; the same operations, the same step)."""
     g1sq = g1 * g1
@@ -189,7 +189,7 @@ def _settle(b, t_end, r1, r2, lazy1, lazy2, g1, d1, dd1, M1, M1_3, g2, d2, dd2, 
     return r1, r2
 
 
-@kernel(inline=True)
+@kernel
 def _outcome(b, pos, res, c_old):
     """An analysed function in ``plan``'s terms, ``res = analyze(...)``: ``(c, ok, p, acc,
     t, pos)`` -- its new certified end, whether its backward window reaches its old
@@ -213,7 +213,7 @@ def _outcome(b, pos, res, c_old):
     return c, lo <= c_old, p, acc, t, pos
 
 
-@kernel(inline=True)
+@kernel
 def bounds(P, av0):
     """``(M1, M1_3, M2, M2_3, d_acc)``: derivative bounds of the segment's event functions.
 
@@ -322,7 +322,7 @@ def _plan(P, st, dx, v, cs, sn, t_end, tol, crawl):
     return _choose(st, b, t_end, r1, r2)
 
 
-@kernel(inline=True)
+@kernel
 def _choose(st, b, t_end, r1, r2):
     """The bookkeeping of ``plan``: speculation, acceptance, the next trial."""
     c1, ok1, p1, acc1, t1, pos1 = r1

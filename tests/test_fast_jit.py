@@ -40,3 +40,19 @@ def test_numbas_own_dispatcher_compiles_a_copy_per_constant():
     callee, caller = _pair(make)
     assert caller(1.5) == 4.5
     assert len(callee.signatures) == 2
+
+
+def test_no_kernel_is_inlined_by_numba():
+    """Every compiled function of ``fast`` leaves inlining to LLVM (``fast.jit``'s docstring:
+    numba's own inlining typed a helper's body again at every call site, a quarter of a cold
+    compile).  The check can fail: numba's option ``inline="always"`` on any kernel."""
+    import importlib
+    import pkgutil
+
+    import fast
+
+    kernels = [obj for info in pkgutil.iter_modules(fast.__path__)
+               for obj in vars(importlib.import_module(f"fast.{info.name}")).values()
+               if isinstance(obj, jit._Dispatcher)]
+    assert len({id(k) for k in kernels}) > 40
+    assert {k.targetoptions["inline"] for k in kernels} == {"never"}
