@@ -241,8 +241,7 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     more whose residual ball is 1 wide (every bit lost: not rounding)."""
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
-    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v))
-    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a, **k: None)
+    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v, None))   # no guide: `prove` is faked
     precs = [prec for prec, _ in ladder.PROOF_LADDER]
     for residual, tried in ((2.0 ** -11, [64, 128, 192, 320]),      # 53 bits lost: 96's box 2^-48 is out
                             (2.0 ** 40, [64, 320]),                 # 104 bits lost: only 320 remains
@@ -302,8 +301,7 @@ def test_a_near_parabolic_orbit_of_an_area_preserving_map_is_tried_on_the_first_
     or off ``det = 1``, the whole ladder."""
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": kind, "trace": trace, "det": det})()
-    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v))
-    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a, **k: None)
+    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v, None))   # no guide: `prove` is faked
     calls = []
 
     def fake(label, sc, x, v, k, prec, radius, phase, points, tight):
@@ -332,8 +330,7 @@ def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spreads, t
     then says."""
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
-    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v))
-    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a, **k: None)
+    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v, None))   # no guide: `prove` is faked
     calls = []
 
     def fake(label, sc, x, v, k, prec, radius, phase, points, tight):
@@ -363,8 +360,7 @@ def test_an_orbit_proof_seeds_each_rung_with_the_centre_the_one_below_polished(m
     record returned has no ``centre``."""
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
-    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v))
-    monkeypatch.setattr("reference.enclosure.maps.point_log", lambda *a, **k: None)
+    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v, None))   # no guide: `prove` is faked
     seeds, centres = [], {64: ["0.31", "0.21"], 128: ["0.32", "0.22"]}
 
     def fake(label, sc, x, v, k, prec, radius, phase, points, tight):
@@ -425,5 +421,6 @@ def test_a_proofs_section_lies_in_flight_not_in_a_rest():
     for p in nodes:
         kinds = {e.kind for evs in compare.fast_events(sc, p.points[:, 0], p.points[:, 1]) for e in evs}
         assert "stick" in kinds
-        _, x, v = ladder._section(sc, p.x, p.v, 1)
+        _, x, v, (guide, _) = ladder._section(sc, p.x, p.v, 1)
         assert v != 0 and sc.float("l") < x < sc.float("r")
+        assert "stick" in {e.kind for e in guide}           # the proof's guide (fast's log) sticks too

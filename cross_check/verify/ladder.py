@@ -59,23 +59,14 @@ from cross_check.paper.claims.base import prove
 #: 14.7, 15.6, 13.0 (its orbits prove at 64 bits either way); the same orbits proved.  (Period by
 #: period, with the first ladder's guides cached for the second, the gains looked 2x larger.)
 PROOF_LADDER = ((64, 2.0 ** -40), (96, 2.0 ** -60), (128, 2.0 ** -80), (192, 2.0 ** -120), (320, None))
-#: Digits of the point log that guides an orbit's walks (``maps.point_log``'s ``dps``; by
-#: default the first rung's 31).  The walk polishes every event time from the log by Newton
-#: steps before it proves the event (``certify.root``), so the guide needs float64's digits and
-#: a guard, at ``dps^1.5`` the cost (Taylor flights).  Issue 33, the orbits task (periods 1-3,
-#: one run each, on a loaded 2-core machine ~3x slower than the one of the figures above): the
-#: point logs took 6.2 -> 3.9 CPU s on the issue's first scene and 22.0 -> 15.5 on ``F=1.896
-#: f=0.0929 omega=0.806 l=0.04 r=0.64 wavenumber=3.5937 damping=0.369 restitution=0.9``, the
-#: same orbits proved at the same rungs (also on ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2``);
-#: the whole task, old and new alternately in one process, 5% and 1% less, within the noise.
-GUIDE_DPS = 20
 
 
 def _section(sc, x, v, period):
-    """``(phase, x, v)``: ``reference.enclosure.shooting.section``'s choice of the proof's section
-    -- the middle of the longest quiet stretch of flight of the orbit, on the grid of ``T / SECTION_GRID``
-    -- from fast's events and flow (the proof polishes the state; the section only has to lie
-    away from the events), instead of two runs of the point integrator."""
+    """``(phase, x, v, guide)``: ``reference.enclosure.shooting.section``'s choice of the proof's
+    section -- the middle of the longest quiet stretch of flight of the orbit, on the grid of ``T /
+    SECTION_GRID`` -- from fast's events and flow (the proof polishes the state; the section only has
+    to lie away from the events), instead of two runs of the point integrator; and the point log
+    that guides every walk of the proof from there (:func:`_guide`)."""
     import fast
     from fractions import Fraction
 
@@ -87,10 +78,49 @@ def _section(sc, x, v, period):
     times = [0.0] + [t for _, t in got] + [period * T]
     mid = quiet_middle(times, rest_stretches([fast.KINDS[k] for k, _ in got], v == 0))
     ticks = int(math.floor(SECTION_GRID * mid / T))
+    guide = _guide(sc, x, v, period, ticks)
     if ticks == 0:
-        return Fraction(0), x, v
+        return Fraction(0), x, v, guide
     xs, vs = fast.flow(sc, np.array([x]), np.array([v]), T * ticks / SECTION_GRID)
-    return Fraction(ticks % SECTION_GRID, SECTION_GRID), float(xs[0]), float(vs[0])
+    return Fraction(ticks % SECTION_GRID, SECTION_GRID), float(xs[0]), float(vs[0]), guide
+
+
+def _guide(sc, x, v, period, ticks):
+    """``(log, walls)``: the point log that guides every walk of an orbit's proof (``prove_periodic``'s
+    ``points``), from fast: the events of the orbit from its point ``(x, v)`` at 0 over the ``period``
+    periods after the section at ``ticks T / SECTION_GRID``, their times moved back by the whole
+    periods of that delay (the section's phase is ``ticks`` mod ``SECTION_GRID``), and the walls as
+    fast holds them (its impacts sit on them: ``Walk._wall_side``).
+
+    A guide only guides: each walk takes its itinerary, polishes every event time by Newton steps on
+    the balls' midpoints and proves the event from the balls (``reference.enclosure.certify``), so a
+    log good to float64's digits guides a proof of any precision, and a log with another itinerary
+    makes the walk at the centre fail; ``prove_periodic`` then walks each centre with a point log of
+    its own (``orbits.UNCENTRED``): never a proof of something else.  Issue 33: the point
+    integrator's log at 20 digits (``maps.point_log``), one an orbit, was 4.0 of the 12.8 CPU s of
+    the orbit proofs of the issue's first scene (periods 1-3, 34 orbits); with fast's log, on seven
+    unseen scenes (103 orbits, periods 1-3, the two guides in turn in one process) and the first
+    scene's period 3 (16), every orbit came out the same (proved or not, and the same radius), and
+    the proofs took 7.9 -> 5.5 CPU s on the first scene's period 3, 12.7 -> 8.1 CPU s on
+    ``F=1.39 f=0.197 omega=1.35 l=-1.38 r=1.51 wavenumber=1.681 damping=0.061 restitution=0.7``,
+    76.2 -> 61.8 on ``F=1.896 f=0.0929 omega=0.806 l=0.04 r=0.64 wavenumber=3.5937 damping=0.369
+    restitution=0.9`` and 4.1 -> 2.7 on the issue's second scene."""
+    import fast
+    import mpmath
+
+    from reference.enclosure.shooting import SECTION_GRID
+    from reference.integrator import Event, EventLog
+
+    T = sc.period
+    start, shift = T * ticks / SECTION_GRID, T * (ticks // SECTION_GRID)
+    log = fast.events(sc, np.array([x]), np.array([v]), start + period * T)
+    guide, mpf = EventLog(), mpmath.mpf
+    guide.t0 = mpf(start - shift)
+    for e in log[0]:
+        if e.t > start:
+            guide.append(Event(e.kind, mpf(e.t - shift), mpf(e.x), mpf(e.v), mpf(e.v_before),
+                               e.count if e.kind == "chatter" else None))
+    return guide, (mpf(sc.float("l")), mpf(sc.float("r")))
 
 
 #: how much wider than its box a rung's residual may be predicted to be and the rung still be
@@ -206,8 +236,8 @@ def _first_rung_only(p) -> str | None:
 def proof(label, sc, p, period, seg) -> dict:
     """The Krawczyk proof record of one orbit (``paper.claims.base.prove``), up the
     ``PROOF_LADDER`` (a segment of no-impact fixed points: ``prove_segment`` at its default); a
-    proof that raises is a failed one, with the reason.  One point log, from the section's state
-    at ``GUIDE_DPS`` digits, guides the walks of every rung (``prove_periodic``'s ``points``).
+    proof that raises is a failed one, with the reason.  One point log, fast's events from the
+    section on (:func:`_guide`), guides the walks of every rung (``prove_periodic``'s ``points``).
 
     An orbit that ``fast`` finds flip-parabolic (``|tr P' + 2| <= periodic.PARABOLIC_TOL``: Newton
     converges only linearly) is tried on the first rung alone, and so is a centre or saddle of an
@@ -226,15 +256,12 @@ def proof(label, sc, p, period, seg) -> dict:
     the centre of 128.  The multipliers come
     from ``P'`` over the Krawczyk box where that decides the type (``prove_periodic``'s
     ``tight=False``: the report gives them to 4 digits), one walk fewer a proof."""
-    from reference.enclosure.maps import point_log
-
     if p.kind == "parabolic" and p.trace > 0:
         return {"orbit": label, "periods": period, "proved": False, "reason": SINGULAR}
     try:
         if seg is not None:
             return prove(label, sc, p.x, p.v, k=period, segment=seg)
-        phase, x, v = _section(sc, p.x, p.v, period)
-        guide = point_log(sc, x, v, period, phase, PROOF_LADDER[0][0], dps=GUIDE_DPS)
+        phase, x, v, guide = _section(sc, p.x, p.v, period)
         first_only = _first_rung_only(p)
         ladder = PROOF_LADDER[:1] if first_only else PROOF_LADDER
         lost, wide, stalled = 0.0, [], False

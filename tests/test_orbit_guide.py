@@ -1,17 +1,19 @@
-"""The point log that guides an orbit proof's walks, at ``verify.ladder.GUIDE_DPS`` digits (issue 33).
+"""The point log that guides an orbit proof's walks: fast's events of the orbit
+(``verify.ladder._guide``, issue 33).
 
 A guide only guides: each walk takes the log's itinerary, polishes every event time by Newton
 steps on the balls' midpoints and proves the event from the balls (``reference.enclosure.certify``).
-So a log good to float64's digits and a guard guides a proof of any precision, at a fraction of
-the point integrator's cost under position forcing (``ladder.GUIDE_DPS``).  Checked here on the
-period-1 orbits of the issue's first unseen scene (found by ``fast``'s search):
+So a log good to float64's digits guides a proof of any precision, without the point integrator's
+cost under position forcing.  Checked here on the period-1 orbits of the issue's first unseen
+scene (found by ``fast``'s search):
 
-* ``maps.point_log`` runs at the digits asked (its times differ from the default log's past
-  ~1e-23, agree to 1e-18), with the same itinerary, and refuses fewer than ``MIN_POINT_DPS``;
-* ``verify``'s orbit proof asks for a ``GUIDE_DPS`` log, and proves at 64 and at 192 bits the
-  same balls as with the default log;
-* a ``GUIDE_DPS`` log from another orbit misleads the walk, which then proves nothing, and the
-  proof is made again with a log per centre (never a proof of the wrong orbit).
+* fast's log has the point integrator's itinerary, its times to float64's digits, and its
+  impacts sit on the walls it gives (``Walk._wall_side``);
+* ``verify``'s orbit proof runs no point integrator, and proves at 64 and at 192 bits the same
+  balls as with the point integrator's log;
+* fast's log of another orbit misleads the walk, which then proves nothing, and the proof is
+  made again with a log per centre (never a proof of the wrong orbit);
+* ``maps.point_log`` runs at the digits asked (at least ``MIN_POINT_DPS``).
 """
 from __future__ import annotations
 
@@ -32,7 +34,8 @@ RUNGS = ((64, 2.0 ** -32), (192, 2.0 ** -96))
 
 @pytest.fixture(scope="module")
 def found():
-    """The period-1 orbits of ``SCENE``: ``[(point, (phase, x, v))]``, the section as ``_proof`` takes it."""
+    """The period-1 orbits of ``SCENE``: ``[(point, (phase, x, v, guide))]``, the section as
+    ``ladder.proof`` takes it."""
     vmax = tasks.velocity_range(SCENE)
     points = periodic.find_periodic_points(SCENE, period=1, v_range=(-vmax, vmax), grid=(8, 8),
                                            search_steps=periodic.SEARCH_STEPS)
@@ -40,13 +43,22 @@ def found():
     return [(p, ladder._section(SCENE, p.x, p.v, 1)) for p in points]
 
 
+def test_fast_s_log_has_the_point_integrator_s_itinerary_to_float64_s_digits(found):
+    for _, (phase, x, v, (guide, walls)) in found:
+        point, _ = maps.point_log(SCENE, x, v, 1, phase, 64)
+        assert [e.kind for e in guide] == [e.kind for e in point] and len(point) > 0
+        assert all(e.x in walls for e in guide if e.kind == "impact")      # ``Walk._wall_side``
+        gaps = [abs(a.t - b.t) / abs(b.t) for a, b in zip(guide, point)]
+        assert max(gaps) < 1e-13, gaps
+        assert abs(guide.t0 - point.t0) < 1e-15 * abs(point.t0) + 1e-300
+
+
 def test_the_log_runs_at_the_digits_asked_with_the_same_itinerary(found):
-    for _, (phase, x, v) in found:
+    for _, (phase, x, v, _) in found:
         default, walls = maps.point_log(SCENE, x, v, 1, phase, 64)
-        coarse, walls_c = maps.point_log(SCENE, x, v, 1, phase, 64, dps=ladder.GUIDE_DPS)
+        coarse, walls_c = maps.point_log(SCENE, x, v, 1, phase, 64, dps=maps.MIN_POINT_DPS)
         assert [e.kind for e in coarse] == [e.kind for e in default] and len(default) > 0
-        # each log holds the walls at its own digits, and its impacts sit on them (the walk
-        # finds an impact's wall so: ``Walk._wall_side``)
+        # each log holds the walls at its own digits, and its impacts sit on them
         for log, held in ((default, walls), (coarse, walls_c)):
             assert all(e.x in held for e in log if e.kind == "impact")
         gaps = [abs(a.t - b.t) / abs(b.t) for a, b in zip(coarse, default)]
@@ -57,34 +69,34 @@ def test_the_log_runs_at_the_digits_asked_with_the_same_itinerary(found):
 @pytest.mark.parametrize("dps, error", [(maps.MIN_POINT_DPS - 1, ValueError), (20.0, TypeError),
                                         (True, TypeError)])
 def test_too_few_digits_are_refused(found, dps, error):
-    _, (phase, x, v) = found[0]
+    _, (phase, x, v, _) = found[0]
     with pytest.raises(error, match="dps must be an integer >= 20"):
         maps.point_log(SCENE, x, v, 1, phase, 64, dps=dps)
 
 
-def test_verify_proves_with_a_guide_dps_log_the_balls_of_the_default_log(found, monkeypatch):
+def test_verify_proves_with_fast_s_log_the_balls_of_the_point_integrator_s(found, monkeypatch):
     asked = []
     real = maps.point_log
     monkeypatch.setattr(maps, "point_log", lambda *a, **k: asked.append(k.get("dps")) or real(*a, **k))
-    p, (phase, x, v) = next((p, s) for p, s in found if p.kind == "saddle")
+    monkeypatch.setattr(orbits, "point_log", maps.point_log)
+    p, (phase, x, v, guide) = next((p, s) for p, s in found if p.kind == "saddle")
     rec = ladder.proof("period 1 orbit 0", SCENE, p, 1, None)
-    assert asked == [ladder.GUIDE_DPS] and rec["proved"] and rec["kind"] == "saddle", rec
+    assert asked == [] and rec["proved"] and rec["kind"] == "saddle", (asked, rec)
     for prec, radius in RUNGS:
         balls = []
-        for dps in (None, ladder.GUIDE_DPS):
-            guide = real(SCENE, x, v, 1, phase, 64, dps=dps)
-            got = prove("o", SCENE, x, v, k=1, prec=prec, radius=radius, phase=phase, points=guide, tight=False)
+        for points in (maps.point_log(SCENE, x, v, 1, phase, 64), guide):     # the spy sees this one
+            got = prove("o", SCENE, x, v, k=1, prec=prec, radius=radius, phase=phase, points=points, tight=False)
             assert got["proved"], got["reason"]
             balls.append([(mpmath.mpf(m), r) for m, r in got["point"]])
         for (m1, r1), (m2, r2) in zip(*balls):          # the same fixed point, to the balls' radii
             assert abs(m1 - m2) <= r1 + r2 and max(r1, r2) < 2.0 ** -(prec // 2), (prec, balls)
+    assert asked == [None, None]
 
 
-def test_a_guide_dps_log_of_another_orbit_proves_nothing_wrong(found):
-    (_, (phase, x, v)), (_, (_, ox, oy)) = found[0], found[1]
+def test_fast_s_log_of_another_orbit_proves_nothing_wrong(found):
+    (_, (phase, x, v, _)), (_, (_, _, _, wrong)) = found[0], found[1]
     prec = RUNGS[0][0]
     with workprec(prec):
-        wrong = maps.point_log(SCENE, ox, oy, 1, phase, prec, dps=ladder.GUIDE_DPS)
         misled = orbits._polished(SCENE, [mpmath.mpf(x), mpmath.mpf(v)], 2.0 ** -32, 1, phase, prec, wrong)
     assert not misled.proved and orbits.UNCENTRED in misled.reason, misled.reason
     right = prove_periodic(SCENE, x, v, phase=phase, prec=prec, points=wrong)
