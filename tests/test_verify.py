@@ -287,6 +287,30 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
     assert ladder.proof("o", sc, p, 1, None)["diverged"] and calls == [64]
 
 
+@pytest.mark.parametrize("radii, tried", [(2.0 ** 50, [64]),           # a kink: the sticking points' miss
+                                          (2.0 ** 17, [64]),           # just past 2^(64 / 4)
+                                          (2.0 ** 15, [64, 96, 128, 192, 320]),   # within: rounding may
+                                          (10.0, [64, 96, 128, 192, 320])])      # the damped scene's
+def test_a_rung_whose_krawczyk_image_misses_its_box_by_far_ends_the_climb(radii, tried, monkeypatch):
+    """``ladder.proof``: a rung whose ``K(Z)`` missed ``Z`` by more than ``2^(KINK_SHARE prec)`` box
+    radii (``miss``: ``P`` not smooth over the box) ends the climb, and its reason says so; a miss
+    of fewer radii rules out nothing."""
+    sc = scenes.scene("fig:xpotno")
+    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
+    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v, None))   # no guide: `prove` is faked
+    calls = []
+
+    def missing(label, sc, x, v, k, prec, radius, phase, points, tight):
+        calls.append(prec)
+        rec = {"orbit": label, "periods": k, "proved": False, "reason": "K(Z) is not inside Z"}
+        return {**rec, "miss": radii * radius} if radius is not None else rec
+
+    monkeypatch.setattr(ladder, "prove", missing)
+    rec = ladder.proof("o", sc, p, 1, None)
+    assert rec["proved"] is False and calls == tried, calls
+    assert ("P is not smooth over the box" in rec["reason"]) is (tried == [64])
+
+
 @pytest.mark.parametrize("kind, trace, det, tried", [
     ("centre", 2 - 1.2e-9, 1.0, [64]),              # scene Y's family members beyond PARABOLIC_TOL
     ("saddle", 2 + 1.3e-9, 1.0 + 1e-13, [64]),

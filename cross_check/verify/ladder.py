@@ -138,6 +138,20 @@ RESIDUAL_SLACK = 4.0
 #: 320 bits took 7.5 to find Newton diverging.  On eight other scenes (164 orbits, one run) no
 #: rung of 128 bits or more left a residual of 1 or more.
 WHOLE_LOSS_PREC = 128
+#: a failed rung whose ``K(Z)`` missed ``Z`` by more than ``2^(KINK_SHARE prec)`` box radii ends the
+#: climb.  The box is walked only once the residual fits in it and ``P'`` at the centre is narrow
+#: enough for a box (``|C| rad P' < 1``): for ``P`` smooth over the box the miss ``|K - z~| <=
+#: |C G(z~)| + |I - C P'(Z)| r`` is then a few radii ``r`` (~10 where a rung failed on rounding
+#: and the next proved: the damped scene below).  A miss of ``2^16`` radii at 64 bits or ``2^24`` at
+#: 96 says ``P'`` over the box is that much wider than at its centre: ``P`` is not smooth there (a
+#: kink of the map, which the fixed point lies on: the rungs' shrinking boxes keep the same miss),
+#: and more bits do not change it.  Issue 33, ``F=1.072 f=0.0075 omega=1.332 l=0.21 r=3.56
+#: wavenumber=0.8216 restitution=0.6``: five period-1 points at rest (``v ~ 1e-15``, sticking)
+#: missed by ~1.4e-3 at 96 bits (box 8.7e-19: 2^50 radii) and again at 128 (box 8.3e-25), then
+#: Newton diverged at 192: 6 to 15 CPU s each, ~42 of the orbits task's ~46; on ``F=2.97 f=0.513
+#: omega=1.16 l=0.04 r=0.5 wavenumber=3.553 damping=0.144 restitution=0.7`` a node at rest, (0.393,
+#: 0), missed by 5.3e-4 at 96 (2^49 radii) and took 128 bits to diverge, 19 CPU s in all.
+KINK_SHARE = 0.25
 
 
 def _fitted(prec, radius, lost):
@@ -250,7 +264,8 @@ def proof(label, sc, p, period, seg) -> dict:
     (``reference.enclosure.orbits.DIVERGE_GROWTH``) no rung is tried after it: on that scene a
     period-2 saddle's rungs of 192 and 320 bits took 37 CPU s to fail so.  Nor after two rungs
     whose ``P'`` was too wide, narrowing at a rate that leaves the rungs above too wide
-    (:func:`_spread_at`).  A rung whose Newton converged before its Krawczyk test failed hands its
+    (:func:`_spread_at`), nor after a rung whose ``K(Z)`` missed its box by more than
+    ``2^(KINK_SHARE prec)`` radii (``P`` not smooth there).  A rung whose Newton converged before its Krawczyk test failed hands its
     centre to the next as the seed (``prove``'s ``centre``): scene Y's period-3 orbits that
     prove at 192 bits took three Newton walks there from the section's float64 state, one from
     the centre of 128.  The multipliers come
@@ -275,6 +290,10 @@ def proof(label, sc, p, period, seg) -> dict:
                         tight=False)
             x, v = rec.pop("centre", (x, v))                # polished: the next rung's seed
             if rec["proved"] or rec.get("diverged"):       # more bits take Newton's same path
+                return rec
+            if radius is not None and rec.get("miss", 0.0) > 2.0 ** (KINK_SHARE * prec) * radius:
+                rec["reason"] += (f" ({rec['miss'] / radius:.1e} box radii: P is not smooth over the box, "
+                                  f"which more bits do not change; no higher rung is tried)")
                 return rec
             if rec.get("spread"):
                 wide.append((prec, rec["spread"]))

@@ -28,8 +28,9 @@ class OrbitProof:
     walk lost ``~log2(residual) + prec`` bits, which a caller may use to pick its next precision),
     ``spread`` where ``P'`` at the Newton centre was too wide for any Krawczyk box
     (``orbits._spread``: it shrinks ~``2^-(bits / 2)`` with more bits, the flights' derivative
-    being carried to half the precision), and ``diverged`` where Newton diverged from the seed
-    (no precision helps).
+    being carried to half the precision), ``miss`` where the box was walked and ``K(Z)`` still
+    not inside ``Z`` (the largest ``|K - z~|``, to compare with ``radius``), and ``diverged``
+    where Newton diverged from the seed (no precision helps).
     """
 
     proved: bool
@@ -48,6 +49,7 @@ class OrbitProof:
     phase: object = 0
     residual: float = 0.0
     spread: float = 0.0
+    miss: float = 0.0
     #: Newton diverged from the seed (``orbits.DIVERGE_GROWTH``): more bits take the same path
     diverged: bool = False
     #: a Krawczyk test that failed after Newton converged: the polished centre ``z~`` (exact

@@ -253,8 +253,9 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, points=Non
         head = head + C * (DF * arb_mat([[d[0]], [d[1]]]))
     K, inside = krawczyk(zt, head, C, DF, [r, r])
     if not inside:
-        fail.reason = (f"K(Z) is not inside Z (radius {float(r):.1e}): |K - z| = "
-                       f"{[float(abs(K[i] - zt[i]).upper()) for i in range(2)]}")
+        miss = [float(abs(K[i] - zt[i]).upper()) for i in range(2)]
+        fail.reason = f"K(Z) is not inside Z (radius {float(r):.1e}): |K - z| = {miss}"
+        fail.miss = max(miss)
         return fail
     if not tight:
         loose = _multipliers(scene, K, periods, prec, r, enc_mid, box)

@@ -180,7 +180,8 @@ def prove(label, scene, x, v, k=1, segment=None, **how) -> dict:
     the box ``radius``, the fixed point's balls ``point`` at ``t = phase T``, the multipliers
     (``[mid, radius]``, or ``{"re", "im"}`` for a complex pair), ``kind``, ``stability`` and
     the ``itinerary``; else ``reason`` (and ``OrbitProof``'s ``residual`` where the test failed
-    on it, ``spread`` where ``P'`` was too wide for it, ``diverged`` where Newton did, and
+    on it, ``spread`` where ``P'`` was too wide for it, ``miss`` where ``K(Z)`` missed ``Z``
+    after the box's walk, ``diverged`` where Newton did, and
     ``centre``, decimal strings, where Newton converged before the test failed: a seed for a
     proof with more bits).
     ``segment = (x_lo, x_hi)``: prove the segment of fixed points ``[x_lo, x_hi] x
@@ -195,6 +196,8 @@ def prove(label, scene, x, v, k=1, segment=None, **how) -> dict:
             rec["residual"] = p.residual
         if p.spread:
             rec["spread"] = p.spread
+        if p.miss:
+            rec["miss"] = p.miss
         if p.diverged:
             rec["diverged"] = True
         if p.centre:            # to the proof's bits: Newton at more bits starts converged there
