@@ -232,16 +232,22 @@ def test_the_report_says_what_each_scenes_data_proves():
     assert "- `forced`: 1/1 golden inputs proved" in text and "self-agreement alone" not in text
 
 
-def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch):
+@pytest.fixture
+def faked_orbit(monkeypatch):
+    """``(scene, point)``: a saddle of ``fig:xpotno`` for ``ladder.proof`` with ``prove`` faked by the
+    test, its section at ``t = 0`` and no guide."""
+    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v, None))
+    return scenes.scene("fig:xpotno"), type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
+
+
+def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch, faked_orbit):
     """``ladder.proof``: a rung that failed on its residual alone (``residual``: ~2^(lost - prec))
     rules out the rungs whose box that loss cannot fit (``_may_hold``), not the others; a failure
     of another kind rules out nothing, and the last rung is always tried.  An orbit that fast
     finds parabolic is tried on the first rung alone, and its reason says so; after a rung whose
     Newton diverged (``diverged``) none is tried, nor after a rung of ``WHOLE_LOSS_PREC`` bits or
     more whose residual ball is 1 wide (every bit lost: not rounding)."""
-    sc = scenes.scene("fig:xpotno")
-    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
-    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v, None))   # no guide: `prove` is faked
+    sc, p = faked_orbit
     precs = [prec for prec, _ in ladder.PROOF_LADDER]
     for residual, tried in ((2.0 ** -11, [64, 128, 192, 320]),      # 53 bits lost: 96's box 2^-48 is out
                             (2.0 ** 40, [64, 320]),                 # 104 bits lost: only 320 remains
@@ -291,13 +297,11 @@ def test_an_orbit_proof_skips_the_rungs_its_measured_loss_rules_out(monkeypatch)
                                           (2.0 ** 17, [64]),           # just past 2^(64 / 4)
                                           (2.0 ** 15, [64, 96, 128, 192, 320]),   # within: rounding may
                                           (10.0, [64, 96, 128, 192, 320])])      # the damped scene's
-def test_a_rung_whose_krawczyk_image_misses_its_box_by_far_ends_the_climb(radii, tried, monkeypatch):
+def test_a_rung_whose_krawczyk_image_misses_its_box_by_far_ends_the_climb(radii, tried, monkeypatch, faked_orbit):
     """``ladder.proof``: a rung whose ``K(Z)`` missed ``Z`` by more than ``2^(KINK_SHARE prec)`` box
     radii (``miss``: ``P`` not smooth over the box) ends the climb, and its reason says so; a miss
     of fewer radii rules out nothing."""
-    sc = scenes.scene("fig:xpotno")
-    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
-    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v, None))   # no guide: `prove` is faked
+    sc, p = faked_orbit
     calls = []
 
     def missing(label, sc, x, v, k, prec, radius, phase, points, tight):
@@ -346,15 +350,13 @@ def test_a_near_parabolic_orbit_of_an_area_preserving_map_is_tried_on_the_first_
                                              # scene Y's centre: 2^-0.16 a bit leaves 4.4 at 320
                                              ({64: 1.6e13, 192: 8.5e6}, [64, 192]),
                                              ({64: 1e10, 192: 1e12}, [64, 192])])    # it grew
-def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spreads, tried, monkeypatch):
+def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spreads, tried, monkeypatch, faked_orbit):
     """``ladder.proof``: a rung that found ``P'`` too wide for any Krawczyk box (``spread``, ``>=
     1``) rules out the rungs where ``spread 2^-((prec - 64) / 2)`` is still 1 or more
     (``_may_hold``), and tries the others; the last rung is tried unless two rungs measured the
     spread and the rate they show (``_spread_at``) leaves it 1 or more there, which the reason
     then says."""
-    sc = scenes.scene("fig:xpotno")
-    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
-    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v, None))   # no guide: `prove` is faked
+    sc, p = faked_orbit
     calls = []
 
     def fake(label, sc, x, v, k, prec, radius, phase, points, tight):
@@ -378,13 +380,11 @@ def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spreads, t
     assert ladder._spread_at(320, [(64, 6e9), (192, 6e9 * 2.0 ** -64)]) == pytest.approx(6e9 * 2.0 ** -128)
 
 
-def test_an_orbit_proof_seeds_each_rung_with_the_centre_the_one_below_polished(monkeypatch):
+def test_an_orbit_proof_seeds_each_rung_with_the_centre_the_one_below_polished(monkeypatch, faked_orbit):
     """``ladder.proof``: a rung whose test failed after Newton converged (``centre``) hands that
     centre to the next rung as its seed; a rung without one leaves the seed as it was; the
     record returned has no ``centre``."""
-    sc = scenes.scene("fig:xpotno")
-    p = type("P", (), {"x": 0.3, "v": 0.2, "kind": "saddle", "trace": 3.0, "det": 1.0})()
-    monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v, None))   # no guide: `prove` is faked
+    sc, p = faked_orbit
     seeds, centres = [], {64: ["0.31", "0.21"], 128: ["0.32", "0.22"]}
 
     def fake(label, sc, x, v, k, prec, radius, phase, points, tight):
