@@ -32,7 +32,20 @@ MAX_WORKERS = 256
 #: 4.90 in a plain process), and a whole ``verify`` 55.5 and 51.3 CPU s (means of three).  A
 #: cluster given by ``--scheduler`` keeps its own settings (``DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED
 #: =False`` in the workers' environment does the same there).
-LOCAL_CONFIG = {"distributed.worker.profile.enabled": False}
+#:
+#: Dask's other clocks of a local cluster tick slower here: the event loops' watchdog (``admin.tick``,
+#: 20 ms: a warning when a loop was blocked), the memory monitor (``worker.memory.monitor-interval``,
+#: 100 ms: pause, spill or restart a worker near its memory limit; a second is soon enough for
+#: these tasks, whose memory grows slowly) and the dashboard's system monitor (500 ms).  Each wakes
+#: a thread that takes the GIL, in the worker (whose process time is what ``verify`` counts as a
+#: task's CPU) and in the caller (the scheduler and the client).  Issue 33, a one-worker cluster, a
+#: task that sleeps 15 s, three runs: the worker spent 0.44 to 0.52 CPU s with Dask's clocks and
+#: 0.07 with these (~3% of a task's wall time, then 0.5%), and the caller 1.7 to 2.0 against 1.1
+#: to 1.2 for the whole run; the tick alone was 0.28 of the worker's.
+LOCAL_CONFIG = {"distributed.worker.profile.enabled": False,
+                "distributed.admin.tick.interval": "1s",
+                "distributed.worker.memory.monitor-interval": "1s",
+                "distributed.admin.system-monitor.interval": "10s"}
 
 
 def check_workers(workers) -> int:

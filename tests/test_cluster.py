@@ -56,11 +56,12 @@ def test_verify_on_an_unreachable_scheduler_exits_2_naming_it(monkeypatch, tmp_p
     assert f"cannot reach the dask scheduler at '{address}'" in capsys.readouterr().err
 
 
-def test_the_local_workers_run_without_dask_s_sampling_profiler(client):
+def test_the_local_workers_run_without_dask_s_sampling_profiler_and_on_slower_clocks(client):
     """``LOCAL_CONFIG``: the workers of a cluster made here take no stack samples (no ``profile``
-    periodic callback, the setting off in their own config), while a worker made with Dask's
-    defaults meanwhile does (the check can fail, and the setting does not leak into the caller's
-    process)."""
+    periodic callback, the setting off in their own config) and tick Dask's watchdog, memory and
+    system monitors every 1 s, 1 s and 10 s, while a worker made with Dask's defaults meanwhile
+    samples and ticks at 20 ms, 100 ms and 500 ms (the check can fail, and the settings do not leak
+    into the caller's process)."""
     import dask
 
     def sampling(dask_worker):
@@ -73,3 +74,13 @@ def test_the_local_workers_run_without_dask_s_sampling_profiler(client):
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as plain, \
             Client(plain) as other:
         assert set(other.run(sampling).values()) == {(True, True)}
+        assert set(other.run(_clocks).values()) == {("20ms", "100ms", "500ms")}      # Dask's defaults
+    assert set(client.run(_clocks).values()) == {("1s", "1s", "10s")}
+
+
+def _clocks():
+    """A worker's intervals of the event loop's watchdog, the memory monitor and the system monitor."""
+    import dask
+
+    return tuple(dask.config.get(f"distributed.{key}") for key in (
+        "admin.tick.interval", "worker.memory.monitor-interval", "admin.system-monitor.interval"))
