@@ -265,12 +265,12 @@ def proof(label, sc, p, period, seg) -> dict:
     period-2 saddle's rungs of 192 and 320 bits took 37 CPU s to fail so.  Nor after two rungs
     whose ``P'`` was too wide, narrowing at a rate that leaves the rungs above too wide
     (:func:`_spread_at`), nor after a rung whose ``K(Z)`` missed its box by more than
-    ``2^(KINK_SHARE prec)`` radii (``P`` not smooth there).  A rung whose Newton converged before its Krawczyk test failed hands its
-    centre to the next as the seed (``prove``'s ``centre``): scene Y's period-3 orbits that
-    prove at 192 bits took three Newton walks there from the section's float64 state, one from
-    the centre of 128.  The multipliers come
-    from ``P'`` over the Krawczyk box where that decides the type (``prove_periodic``'s
-    ``tight=False``: the report gives them to 4 digits), one walk fewer a proof."""
+    ``2^(KINK_SHARE prec)`` radii (``P`` not smooth there).  A rung whose Newton converged before
+    its Krawczyk test failed hands its centre to the next as the seed (``prove``'s ``centre``):
+    scene Y's period-3 orbits that prove at 192 bits took three Newton walks there from the
+    section's float64 state, one from the centre of 128.  The multipliers come from ``P'`` over
+    the Krawczyk box where that decides the type (``prove_periodic``'s ``tight=False``: the
+    report gives them to 4 digits), one walk fewer a proof."""
     if p.kind == "parabolic" and p.trace > 0:
         return {"orbit": label, "periods": period, "proved": False, "reason": SINGULAR}
     try:
