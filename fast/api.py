@@ -20,7 +20,6 @@ results are the same bits for every thread count.
 from __future__ import annotations
 
 import functools
-import math
 import numbers
 import time
 
