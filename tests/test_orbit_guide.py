@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import mpmath
 import pytest
+from hypothesis import given, settings
 
 from cross_check.dynamics import periodic
 from cross_check.paper.claims.base import prove
@@ -26,6 +27,7 @@ from cross_check.verify import ladder, tasks
 from reference import Scene
 from reference.enclosure import maps, orbits, prove_periodic
 from reference.enclosure.balls import workprec
+from tests.strategies import position_forced_scenes
 
 SCENE = Scene(F=1, f="0.15", omega="1.7", l="-0.4", r="0.9", wavenumber="1.3")
 #: the rungs checked: the first (where most orbits prove) and the one scene Y's centres need
@@ -157,3 +159,37 @@ def test_a_rung_s_box_is_widened_to_fit_a_measured_loss():
     assert ladder._may_hold(128, ladder._fitted(128, 2.0 ** -80, 53.0), 53.0) is True
     assert ladder._may_hold(128, 2.0 ** -80, 53.0) is False                # unfitted, 128 would be
     assert ladder._fitted(320, None, 53.0) is None
+
+
+@pytest.mark.slow
+@settings(max_examples=20, deadline=None)
+@given(position_forced_scenes(restitutions=("1", "0.9", "0.6")))
+def test_fast_s_log_proves_what_the_point_integrator_s_proves_on_random_scenes(sc):
+    """On random position-forced scenes (every effect drawn: ``tests.strategies``), the period-1
+    orbits fast's search finds (8 x 8 seeds, the first three): the proof guided by fast's log
+    (``ladder.proof`` as ``verify`` runs it) and the one guided by the point integrator's log at
+    20 digits come out the same, proved or not, and where proved on the same rung with overlapping
+    balls (the walks polish the event times from different guesses, so the last bits differ)."""
+    vmax = tasks.velocity_range(sc)
+    points = periodic.find_periodic_points(sc, period=1, v_range=(-vmax, vmax), grid=(8, 8),
+                                           search_steps=periodic.SEARCH_STEPS)[:3]
+    ours = ladder._section
+
+    def point_integrators(sc, x, v, period):
+        phase, xs, vs, _ = ours(sc, x, v, period)
+        return phase, xs, vs, maps.point_log(sc, xs, vs, period, phase, 64, dps=maps.MIN_POINT_DPS)
+
+    for p in points:
+        got = []
+        for section in (ours, point_integrators):
+            ladder._section = section
+            try:
+                got.append(ladder.proof("o", sc, p, 1, None))
+            finally:
+                ladder._section = ours
+        fast_rec, point_rec = got
+        assert fast_rec["proved"] == point_rec["proved"], (sc, p.x, p.v, fast_rec, point_rec)
+        if fast_rec["proved"]:          # on the same rung (box), the same fixed point: the balls overlap
+            assert (fast_rec["radius"], fast_rec["kind"]) == (point_rec["radius"], point_rec["kind"])
+            for (m1, r1), (m2, r2) in zip(fast_rec["point"], point_rec["point"]):
+                assert abs(mpmath.mpf(m1) - mpmath.mpf(m2)) <= r1 + r2, (sc, fast_rec, point_rec)
