@@ -1,0 +1,54 @@
+"""The proof ladder's kink rule on random scenes (``verify.ladder.KINK_SHARE``, issue 33).
+
+A rung whose Krawczyk image ``K(Z)`` misses its box by more than ``2^(KINK_SHARE prec)`` radii
+ends the climb: ``P`` is not smooth over the box, and more bits do not change that.  The rule
+only saves time if it never stops a climb that a higher rung would have finished with a proof:
+checked here on random position-forced scenes (every effect drawn: ``tests.strategies``), on
+the period-1 orbits fast's search finds, against the ladder without the rule.  The rule's own
+decisions, with ``prove`` faked, are in ``tests/test_verify.py``.
+"""
+from __future__ import annotations
+
+import pytest
+from hypothesis import example, given, settings
+
+from cross_check.dynamics import periodic
+from cross_check.verify import ladder, tasks
+from reference import Scene
+from tests.strategies import position_forced_scenes
+
+
+#: two unseen scenes of issue 33 where the rule ends climbs: a sticking one (its first period-1
+#: points are at rest, and missed their boxes by 2^50 radii) and one where every period chatters
+#: (a node at rest, 2^49 radii); random scenes seldom have such points
+STICKING = Scene(F="1.072", f="0.0075", omega="1.332", l="0.21", r="3.56", wavenumber="0.8216",
+                 restitution="0.6")
+CHATTERING = Scene(F="2.97", f="0.513", omega="1.16", l="0.04", r="0.5", wavenumber="3.553",
+                   damping="0.144", restitution="0.7")
+
+
+@pytest.mark.slow
+@settings(max_examples=10, deadline=None)
+@given(position_forced_scenes(restitutions=("1", "0.9", "0.6")))
+@example(STICKING)
+@example(CHATTERING)
+def test_the_kink_rule_stops_no_climb_that_would_prove(sc):
+    """The first three period-1 orbits of 8 x 8 seeds: the ladder with the rule proves the same
+    orbits as without it (``KINK_SHARE = inf``), on the same rung (~2 min: without the rule the
+    two scenes' points at rest climb to 192 bits)."""
+    vmax = tasks.velocity_range(sc)
+    points = periodic.find_periodic_points(sc, period=1, v_range=(-vmax, vmax), grid=(8, 8),
+                                           search_steps=periodic.SEARCH_STEPS)[:3]
+    share = ladder.KINK_SHARE
+    for p in points:
+        got = []
+        for rule in (share, float("inf")):
+            ladder.KINK_SHARE = rule
+            try:
+                got.append(ladder.proof("o", sc, p, 1, None))
+            finally:
+                ladder.KINK_SHARE = share
+        ruled, unruled = got
+        assert ruled["proved"] == unruled["proved"], (sc, p.x, p.v, ruled, unruled)
+        if ruled["proved"]:
+            assert ruled["radius"] == unruled["radius"], (sc, ruled, unruled)
