@@ -12,9 +12,9 @@ from __future__ import annotations
 import pytest
 from hypothesis import example, given, settings
 
-from cross_check.dynamics import periodic
-from cross_check.verify import ladder, tasks
+from cross_check.verify import ladder
 from reference import Scene
+from tests.ladder_pairs import first_orbits, proofs_under
 from tests.strategies import position_forced_scenes
 
 
@@ -36,19 +36,8 @@ def test_the_kink_rule_stops_no_climb_that_would_prove(sc):
     """The first three period-1 orbits of 8 x 8 seeds: the ladder with the rule proves the same
     orbits as without it (``KINK_SHARE = inf``), on the same rung (~2 min: without the rule the
     two scenes' points at rest climb to 192 bits)."""
-    vmax = tasks.velocity_range(sc)
-    points = periodic.find_periodic_points(sc, period=1, v_range=(-vmax, vmax), grid=(8, 8),
-                                           search_steps=periodic.SEARCH_STEPS)[:3]
-    share = ladder.KINK_SHARE
-    for p in points:
-        got = []
-        for rule in (share, float("inf")):
-            ladder.KINK_SHARE = rule
-            try:
-                got.append(ladder.proof("o", sc, p, 1, None))
-            finally:
-                ladder.KINK_SHARE = share
-        ruled, unruled = got
+    for p in first_orbits(sc):
+        ruled, unruled = proofs_under(sc, p, "KINK_SHARE", (ladder.KINK_SHARE, float("inf")))
         assert ruled["proved"] == unruled["proved"], (sc, p.x, p.v, ruled, unruled)
         if ruled["proved"]:
             assert ruled["radius"] == unruled["radius"], (sc, ruled, unruled)

@@ -27,6 +27,7 @@ from cross_check.verify import ladder, tasks
 from reference import Scene
 from reference.enclosure import maps, orbits, prove_periodic
 from reference.enclosure.balls import workprec
+from tests.ladder_pairs import first_orbits, proofs_under
 from tests.strategies import position_forced_scenes
 
 SCENE = Scene(F=1, f="0.15", omega="1.7", l="-0.4", r="0.9", wavenumber="1.3")
@@ -170,24 +171,14 @@ def test_fast_s_log_proves_what_the_point_integrator_s_proves_on_random_scenes(s
     (``ladder.proof`` as ``verify`` runs it) and the one guided by the point integrator's log at
     20 digits come out the same, proved or not, and where proved on the same rung with overlapping
     balls (the walks polish the event times from different guesses, so the last bits differ)."""
-    vmax = tasks.velocity_range(sc)
-    points = periodic.find_periodic_points(sc, period=1, v_range=(-vmax, vmax), grid=(8, 8),
-                                           search_steps=periodic.SEARCH_STEPS)[:3]
     ours = ladder._section
 
     def point_integrators(sc, x, v, period):
         phase, xs, vs, _ = ours(sc, x, v, period)
         return phase, xs, vs, maps.point_log(sc, xs, vs, period, phase, 64, dps=maps.MIN_POINT_DPS)
 
-    for p in points:
-        got = []
-        for section in (ours, point_integrators):
-            ladder._section = section
-            try:
-                got.append(ladder.proof("o", sc, p, 1, None))
-            finally:
-                ladder._section = ours
-        fast_rec, point_rec = got
+    for p in first_orbits(sc):
+        fast_rec, point_rec = proofs_under(sc, p, "_section", (ours, point_integrators))
         assert fast_rec["proved"] == point_rec["proved"], (sc, p.x, p.v, fast_rec, point_rec)
         if fast_rec["proved"]:          # on the same rung (box), the same fixed point: the balls overlap
             assert (fast_rec["radius"], fast_rec["kind"]) == (point_rec["radius"], point_rec["kind"])
