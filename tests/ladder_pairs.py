@@ -1,26 +1,26 @@
 """Helpers of the tests that run ``verify.ladder.proof`` two ways on random scenes and compare
-(``tests/test_orbit_guide.py``, ``tests/test_ladder_kink.py``)."""
+(``tests/test_orbit_guide.py``, ``tests/test_ladder_kink.py``, ``tests/test_ladder_rungs.py``)."""
 from __future__ import annotations
 
 from cross_check.dynamics import periodic
 from cross_check.verify import ladder, tasks
 
 
-def first_orbits(sc, n: int = 3) -> list:
-    """The first ``n`` period-1 points that fast's search finds from 8 x 8 seeds."""
+def first_orbits(sc, n: int = 3, period: int = 1) -> list:
+    """The first ``n`` period-``period`` points that fast's search finds from 8 x 8 seeds."""
     vmax = tasks.velocity_range(sc)
-    return periodic.find_periodic_points(sc, period=1, v_range=(-vmax, vmax), grid=(8, 8),
+    return periodic.find_periodic_points(sc, period=period, v_range=(-vmax, vmax), grid=(8, 8),
                                          search_steps=periodic.SEARCH_STEPS)[:n]
 
 
-def proofs_under(sc, p, name: str, values) -> list:
-    """``ladder.proof`` of the period-1 point ``p`` once with ``ladder``'s attribute ``name`` set
-    to each of ``values`` in turn (restored after each)."""
+def proofs_under(sc, p, name: str, values, period: int = 1) -> list:
+    """``ladder.proof`` of the period-``period`` point ``p`` once with ``ladder``'s attribute
+    ``name`` set to each of ``values`` in turn (restored after each)."""
     kept, out = getattr(ladder, name), []
     for value in values:
         setattr(ladder, name, value)
         try:
-            out.append(ladder.proof("o", sc, p, 1, None))
+            out.append(ladder.proof("o", sc, p, period, None))
         finally:
             setattr(ladder, name, kept)
     return out

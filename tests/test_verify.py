@@ -355,8 +355,9 @@ def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spreads, t
     1``) rules out the rungs where ``spread 2^-((prec - 64) / 2)`` is still 1 or more
     (``_may_hold``), and tries the others; the last rung is tried unless two rungs measured the
     spread and the rate they show (``_spread_at``) leaves it 1 or more there, which the reason
-    then says."""
+    then says.  (No rung is inserted here, ``SPREAD_AIM = 0``: that rule has its own test.)"""
     sc, p = faked_orbit
+    monkeypatch.setattr(ladder, "SPREAD_AIM", 0.0)
     calls = []
 
     def fake(label, sc, x, v, k, prec, radius, phase, points, tight):
@@ -378,6 +379,33 @@ def test_an_orbit_proof_skips_the_rungs_whose_jacobian_stays_too_wide(spreads, t
     assert ladder._may_hold(192, 2.0 ** -96, 0, [(64, 6e9)]) is True
     assert ladder._spread_at(320, [(64, 1.6e13), (192, 8.5e6)]) == pytest.approx(4.4, rel=0.05)
     assert ladder._spread_at(320, [(64, 6e9), (192, 6e9 * 2.0 ** -64)]) == pytest.approx(6e9 * 2.0 ** -128)
+
+
+@pytest.mark.parametrize("spread, at", [(29.0, 80), (96.0, 80), (467.0, 88), (1.1, 72),   # scene d1's
+                                        (6.5e5, 112), (5.97e9, 136),     # scene Y's period-3 saddles
+                                        (1e4, None)])                    # 96 bits: 0.15, no rung below
+def test_a_measured_spread_inserts_the_rung_it_predicts_to_hold(spread, at, monkeypatch, faked_orbit):
+    """``ladder.proof``: after a rung of 64 bits found ``P'`` too wide (``spread``), the fewest bits
+    (a multiple of ``RUNG_STEP_BITS``) where ``_spread_at`` predicts at most ``SPREAD_AIM`` are
+    tried next, with the box ``2^-(5/8 bits)``, if that is fewer than the next rung the ladder
+    would try (``_aimed``); the measured spreads of issue 33's damped scene d1 and frictionless
+    scene Y give the rungs where those orbits proved (``SPREAD_AIM = 0``: the fixed ladder)."""
+    sc, p = faked_orbit
+    calls = []
+
+    def fake(label, sc, x, v, k, prec, radius, phase, points, tight):
+        calls.append((prec, radius))
+        rec = {"orbit": label, "periods": k, "proved": prec > 64, "reason": "test"}
+        return {**rec, "spread": spread} if prec == 64 else rec
+
+    monkeypatch.setattr(ladder, "prove", fake)
+    assert ladder.proof("o", sc, p, 1, None)["proved"]
+    fixed = next(prec for prec, _ in ladder.PROOF_LADDER if ladder._spread_at(prec, [(64, spread)]) < 1)
+    rung = (at, 2.0 ** -(5 * at // 8)) if at else (fixed, dict(ladder.PROOF_LADDER)[fixed])
+    assert calls == [(64, 2.0 ** -40), rung], calls
+    calls.clear()
+    monkeypatch.setattr(ladder, "SPREAD_AIM", 0.0)
+    assert ladder.proof("o", sc, p, 1, None)["proved"] and calls[1][0] == fixed
 
 
 def test_an_orbit_proof_seeds_each_rung_with_the_centre_the_one_below_polished(monkeypatch, faked_orbit):

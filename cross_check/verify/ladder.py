@@ -9,7 +9,9 @@ residual ``|C G(z)|``, ``~2^(lost - prec)`` after a loss of ``lost`` bits measur
 (:func:`_may_hold`), must fit in the box; and ``P'`` must vary little over the box (``|C| spread(P')
 < 1``: :func:`_spread_at`).  The ladder climbs until one rung proves the orbit, skipping the rungs
 that the measurements rule out, and stops where more bits cannot help (Newton diverging, a loss of
-every bit, a spread that does not narrow).  The points that ``fast`` finds on or next to a family
+every bit, a spread that does not narrow).  A rung that measures ``P'`` too wide has the ladder try
+next the fewest bits where that spread is predicted to be small (:func:`_aimed`), between its
+fixed rungs.  The points that ``fast`` finds on or next to a family
 of fixed points (``tr P' ~ 2``) are not tried or tried on the first rung only (``SINGULAR``,
 :func:`_first_rung_only`).
 
@@ -188,6 +190,38 @@ def _spread_at(prec, wide) -> float:
     return spread * 2.0 ** (-rate * (prec - bits))
 
 
+#: the spread of ``P'`` that a rung inserted on a measurement aims at (:func:`_aimed`), and the
+#: bits between the rungs it may insert.  Issue 33, ``F=1.896 f=0.0929 omega=0.806 l=0.04 r=0.64
+#: wavenumber=3.5937 damping=0.369 restitution=0.9`` (14 of its 16 period-3 saddles fail at 64
+#: bits on a spread of 1.1 to 470, and the spread falls as ``2^-(bits / 2)``: 29, 1.5 at 64, 72):
+#: a saddle whose spread at 64 bits was 96 proved at 80 bits in 2.0 CPU s, at 88 in 2.6 and at 96
+#: in 3.1; on ``F=2 f=0 omega=0.5 l=-1 r=1 wavenumber=2`` a period-3 saddle with a spread of 6.5e5
+#: at 64 bits proved at 104 bits in 3.7 CPU s, at 128 in 5.6 (one run each).  The orbits task
+#: (periods 1 to 3, the fixed ladder then this one, each in a process of its own, one run each):
+#: d1 65.7 -> 58.1 CPU s (14 period-3 saddles proved at 72 to 88 bits instead of 96: their rungs
+#: 34.8 -> 28.0 s), ``F=3 f=0.3 omega=0.5 l=-2 r=2 wavenumber=2`` 32.4 -> 28.6 (a saddle at 72
+#: instead of 96: 3.7 -> 2.3 s), the same orbits proved, of the same kinds; on Y two period-3
+#: saddles proved at 112 and 136 bits instead of 128 and 192 (~5.9 -> 4.0 and ~13 -> 8.8 s).  On
+#: fourteen other scenes (the issue's two, four more of its unseen ones, eight random ones of the
+#: verify benchmark's distribution) no rung was inserted.
+SPREAD_AIM = 0.5
+RUNG_STEP_BITS = 8
+
+
+def _aimed(prec, ladder, wide) -> list:
+    """``ladder`` with a rung inserted after a rung of ``prec`` bits that measured ``P'`` too wide
+    (``wide``): the fewest bits, a multiple of ``RUNG_STEP_BITS``, where the spread predicted by
+    :func:`_spread_at` is at most ``SPREAD_AIM``, with the ladder's box radius ``2^-(5/8 bits)``,
+    if that is fewer than those of the first rung above ``prec`` where the spread is predicted
+    below 1 (the next one :func:`_may_hold` lets through); else ``ladder`` as it was."""
+    above = [bits for bits, _ in ladder if bits > prec and _spread_at(bits, wide) < 1]
+    top = above[0] if above else prec
+    for bits in range(prec + RUNG_STEP_BITS, top, RUNG_STEP_BITS):
+        if _spread_at(bits, wide) <= SPREAD_AIM:
+            return sorted(ladder + [(bits, 2.0 ** -(5 * bits // 8))], key=lambda rung: rung[0])
+    return ladder
+
+
 def _may_hold(prec, radius, lost, wide=()) -> bool:
     """Whether a rung of ``PROOF_LADDER`` may hold after a lower one lost ``lost`` bits: its
     residual ``~2^(lost - prec)`` must be within ``RESIDUAL_SLACK`` times the ``2 r`` that the
@@ -264,7 +298,9 @@ def proof(label, sc, p, period, seg) -> dict:
     (``reference.enclosure.orbits.DIVERGE_GROWTH``) no rung is tried after it: on that scene a
     period-2 saddle's rungs of 192 and 320 bits took 37 CPU s to fail so.  Nor after two rungs
     whose ``P'`` was too wide, narrowing at a rate that leaves the rungs above too wide
-    (:func:`_spread_at`), nor after a rung whose ``K(Z)`` missed its box by more than
+    (:func:`_spread_at`; a rung that measured the spread has the ladder try next the fewest bits
+    where it is predicted to be ``SPREAD_AIM``: :func:`_aimed`), nor after a rung whose ``K(Z)``
+    missed its box by more than
     ``2^(KINK_SHARE prec)`` radii (``P`` not smooth there).  A rung whose Newton converged before
     its Krawczyk test failed hands its centre to the next as the seed (``prove``'s ``centre``):
     scene Y's period-3 orbits that prove at 192 bits took three Newton walks there from the
@@ -278,9 +314,11 @@ def proof(label, sc, p, period, seg) -> dict:
             return prove(label, sc, p.x, p.v, k=period, segment=seg)
         phase, x, v, guide = _section(sc, p.x, p.v, period)
         first_only = _first_rung_only(p)
-        ladder = PROOF_LADDER[:1] if first_only else PROOF_LADDER
-        lost, wide, stalled = 0.0, [], False
-        for prec, radius in ladder:
+        ladder = list(PROOF_LADDER[:1] if first_only else PROOF_LADDER)
+        lost, wide, stalled, i = 0.0, [], False, -1
+        while i + 1 < len(ladder):
+            i += 1
+            prec, radius = ladder[i]
             radius = _fitted(prec, radius, lost)
             # the last rung is tried unless two measured spreads rule it out (``_spread_at``)
             stalled = len(wide) > 1 and _spread_at(prec, wide) >= 1
@@ -297,6 +335,7 @@ def proof(label, sc, p, period, seg) -> dict:
                 return rec
             if rec.get("spread"):
                 wide.append((prec, rec["spread"]))
+                ladder = _aimed(prec, ladder, wide)
             if rec.get("residual"):
                 lost = max(lost, math.log2(rec["residual"]) + prec)
                 if prec >= WHOLE_LOSS_PREC and rec["residual"] >= 1:
