@@ -1,4 +1,6 @@
-"""The proof ladder's kink rule on random scenes (``verify.ladder.KINK_SHARE``, issue 33).
+"""The proof ladder's rules for points where ``P`` is not smooth, on random scenes (issue 33):
+the kink rule (``verify.ladder.KINK_SHARE``) and the first rung alone for a rest state at the edge
+of a family of them (``verify.ladder.REST_EDGE_TOL``).
 
 A rung whose Krawczyk image ``K(Z)`` misses its box by more than ``2^(KINK_SHARE prec)`` radii
 ends the climb: ``P`` is not smooth over the box, and more bits do not change that.  The rule
@@ -38,6 +40,23 @@ def test_the_kink_rule_stops_no_climb_that_would_prove(sc):
     two scenes' points at rest climb to 192 bits)."""
     for p in first_orbits(sc):
         ruled, unruled = proofs_under(sc, p, "KINK_SHARE", (ladder.KINK_SHARE, float("inf")))
+        assert ruled["proved"] == unruled["proved"], (sc, p.x, p.v, ruled, unruled)
+        if ruled["proved"]:
+            assert ruled["radius"] == unruled["radius"], (sc, ruled, unruled)
+
+
+@pytest.mark.slow
+@settings(max_examples=10, deadline=None)
+@given(position_forced_scenes(restitutions=("1", "0.9", "0.6")))
+@example(STICKING)
+@example(CHATTERING)
+def test_a_rest_edge_point_tried_on_the_first_rung_only_is_one_the_whole_ladder_does_not_prove(sc):
+    """The first three period-1 orbits of 8 x 8 seeds: the ladder that tries a point of rank-one
+    ``P'`` near ``tr = 1`` on its first rung only proves the same orbits as the ladder without
+    that rule (``REST_EDGE_TOL < 0``), on the same rung (~10 s: without the rule the sticking
+    scene's two points climb to 96 bits, where the kink rule ends the climb)."""
+    for p in first_orbits(sc):
+        ruled, unruled = proofs_under(sc, p, "REST_EDGE_TOL", (ladder.REST_EDGE_TOL, -1.0))
         assert ruled["proved"] == unruled["proved"], (sc, p.x, p.v, ruled, unruled)
         if ruled["proved"]:
             assert ruled["radius"] == unruled["radius"], (sc, ruled, unruled)

@@ -320,13 +320,18 @@ def test_a_rung_whose_krawczyk_image_misses_its_box_by_far_ends_the_climb(radii,
     ("saddle", 2 + 1.3e-9, 1.0 + 1e-13, [64]),
     ("centre", 2 - 3.6e-8, 1.0, None),               # the elliptic centre proved at 192 bits
     ("saddle", 2 + 1.2e-9, 0.5, None),               # not area-preserving: no family of this kind
-    ("node", 2 - 1.2e-9, 1.0, None)])
+    ("node", 2 - 1.2e-9, 1.0, None),
+    ("node", 1 - 6.9e-6, 0.0, [64]),                # scene S's rest states at |F cos k x| = f
+    ("node", 1 - 9.7e-6, -2.2e-19, [64]),            # P3's
+    ("node", 1 - 2e-4, 0.0, None),                   # beyond REST_EDGE_TOL
+    ("node", 1 - 6.9e-6, 1e-6, None)])               # not of rank one
 def test_a_near_parabolic_orbit_of_an_area_preserving_map_is_tried_on_the_first_rung_only(
         kind, trace, det, tried, monkeypatch):
     """``ladder.proof``: a centre or saddle of an area-preserving map within ``FAMILY_TOL`` of
     ``tr = +2`` in float64 (a family's member: its rungs of 192 and 320 bits failed on the
-    frictionless corners) is tried at 64 bits only, and its reason says why; outside that band,
-    or off ``det = 1``, the whole ladder."""
+    frictionless corners) is tried at 64 bits only, and so is a point of rank-one ``P'`` within
+    ``REST_EDGE_TOL`` of ``tr = 1`` (the edge of a family of rest states), and the reason says
+    why; outside those bands, off ``det = 1`` or ``det = 0``, the whole ladder."""
     sc = scenes.scene("fig:xpotno")
     p = type("P", (), {"x": 0.3, "v": 0.2, "kind": kind, "trace": trace, "det": det})()
     monkeypatch.setattr(ladder, "_section", lambda sc, x, v, k: (0, x, v, None))   # no guide: `prove` is faked
@@ -339,7 +344,8 @@ def test_a_near_parabolic_orbit_of_an_area_preserving_map_is_tried_on_the_first_
     monkeypatch.setattr(ladder, "prove", fake)
     rec = ladder.proof("o", sc, p, 3, None)
     assert calls == (tried or [prec for prec, _ in ladder.PROOF_LADDER])
-    assert ("FAMILY_TOL" in rec["reason"] and "tried at 64 bits only" in rec["reason"]) == bool(tried)
+    rule = "FAMILY_TOL" if kind != "node" else "REST_EDGE_TOL"
+    assert (rule in rec["reason"] and "tried at 64 bits only" in rec["reason"]) == bool(tried)
 
 
 @pytest.mark.parametrize("spreads, tried", [({64: 6e9}, [64, 192, 320]),     # 9e4 at 96, 1.4 at 128

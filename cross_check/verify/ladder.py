@@ -266,18 +266,40 @@ SINGULAR = ("not attempted: parabolic with tr P' ~ +2 in float64 (|tr - 2| <= PA
 #: reports of this issue's sweeps (108 scenes, 1,978 orbits) the proved centres nearest ``tr = 2``
 #: are that one and one at 2.3e-4.
 FAMILY_TOL = 1e-8
+#: ``|tr P' - 1|`` in float64 within which a point whose ``P'`` has rank one (``|det P'| <=
+#: RANK_ONE_DET``: the orbit sticks and forgets its speed) is tried on the first rung only, as a
+#: parabolic one (``_first_rung_only``): its other multiplier ~1 says the rest state it returns to
+#: barely moves with its start -- the edge of a family of rest states (``|F cos k x| = f``), where
+#: ``P`` has a kink.  Issue 33, ``F=1.072 f=0.0075 omega=1.332 l=0.21 r=3.56 wavenumber=0.8216
+#: restitution=0.6``: four period-1 points at rest at ``x = 1.903`` and ``1.920`` (``F cos k x =
+#: 0.0075 = f``), ``tr = 1 - 1.7e-6`` to ``1 - 6.9e-6``, ``det = 0``: two missed their boxes by
+#: ``2^50`` radii at 96 bits (``KINK_SHARE``), two lost 27 and 38 bits at 64 and 96 and took 4.3 and
+#: 6.1 CPU s at 128 to find Newton diverging; on ``F=2.97 f=0.513 omega=1.16 l=0.04 r=0.5
+#: wavenumber=3.553 damping=0.144 restitution=0.7`` a node at rest, ``tr = 1 - 9.7e-6``, the same.
+#: On fourteen other scenes (the issue's two, d1, D, W, R3 and eight random ones of the verify
+#: benchmark's distribution; periods 1 to 3, 16 x 16 seeds) no isolated point had ``|det(P' -
+#: I)| < 1e-4``.  The orbits task (periods 1 to 3, without the rule then with it, each in a
+#: process of its own, one run each): S 19.3 -> 8.7 CPU s, P3 12.3 -> 3.5 (its node's rung of 96
+#: bits took 8.0), the same orbits proved.
+REST_EDGE_TOL = 1e-4
+RANK_ONE_DET = 1e-12
 
 
 def _first_rung_only(p) -> str | None:
     """Why an orbit is tried on the first rung alone, or None: flip-parabolic in float64 (``|tr +
-    2| <= periodic.PARABOLIC_TOL``: Newton converges only linearly), or a centre or saddle of an
-    area-preserving map within ``FAMILY_TOL`` of ``tr = +2`` (a family's member, most likely)."""
+    2| <= periodic.PARABOLIC_TOL``: Newton converges only linearly), a centre or saddle of an
+    area-preserving map within ``FAMILY_TOL`` of ``tr = +2`` (a family's member, most likely), or
+    a point of rank-one ``P'`` within ``REST_EDGE_TOL`` of ``tr = 1`` (the edge of a family of
+    rest states)."""
     if p.kind == "parabolic":
         return f"parabolic in float64 (tr within {periodic.PARABOLIC_TOL:g} of +-2: det(P' - I) ~ 0)"
     if (p.kind in ("centre", "saddle") and abs(p.trace - 2) <= FAMILY_TOL
             and abs(p.det - 1) <= periodic.AREA_TOL):
         return (f"tr P' = 2 {p.trace - 2:+.1e} in float64, within {FAMILY_TOL:g} of a family of fixed "
                 f"points' (det(P' - I) ~ 0; FAMILY_TOL)")
+    if abs(p.det) <= RANK_ONE_DET and abs(p.trace - 1) <= REST_EDGE_TOL:
+        return (f"P' of rank one with tr P' = 1 {p.trace - 1:+.1e} in float64: a rest state at the "
+                f"edge of a family of them (det(P' - I) ~ 0, P not smooth; REST_EDGE_TOL)")
     return None
 
 
@@ -289,7 +311,8 @@ def proof(label, sc, p, period, seg) -> dict:
 
     An orbit that ``fast`` finds flip-parabolic (``|tr P' + 2| <= periodic.PARABOLIC_TOL``: Newton
     converges only linearly) is tried on the first rung alone, and so is a centre or saddle of an
-    area-preserving map within ``FAMILY_TOL`` of ``tr = +2`` (:func:`_first_rung_only`); one
+    area-preserving map within ``FAMILY_TOL`` of ``tr = +2`` and a point of rank-one ``P'`` within
+    ``REST_EDGE_TOL`` of ``tr = 1`` (:func:`_first_rung_only`); one
     fast finds parabolic with ``tr P' ~ +2`` is not tried (``SINGULAR``: ``det(P' - I)`` is ~0).
     Issue 33: on the frictionless scene ``F=2
     f=0 omega=0.5 l=-1 r=1 wavenumber=2`` 127 of the 138 period-1 points are parabolic (families
