@@ -35,7 +35,6 @@ import math
 import pathlib
 import sys
 import time
-from fractions import Fraction
 
 from flint import arb
 

@@ -24,3 +24,22 @@ def proofs_under(sc, p, name: str, values, period: int = 1) -> list:
         finally:
             setattr(ladder, name, kept)
     return out
+
+
+def assert_same_proofs(sc, name: str, off, **held) -> None:
+    """The first three period-1 orbits of ``sc``: ``ladder.proof`` with ``ladder``'s rule ``name``
+    as it is and at ``off`` (the rule off) proves the same orbits, on the same rung (the same
+    box radius); ``held``: other attributes of ``ladder`` held at these values in both (restored
+    after)."""
+    kept = {key: getattr(ladder, key) for key in held}
+    try:
+        for key, value in held.items():
+            setattr(ladder, key, value)
+        for p in first_orbits(sc):
+            ruled, unruled = proofs_under(sc, p, name, (getattr(ladder, name), off))
+            assert ruled["proved"] == unruled["proved"], (sc, p.x, p.v, ruled, unruled)
+            if ruled["proved"]:
+                assert ruled["radius"] == unruled["radius"], (sc, ruled, unruled)
+    finally:
+        for key, value in kept.items():
+            setattr(ladder, key, value)

@@ -5,7 +5,6 @@ import re
 import warnings
 from fractions import Fraction
 
-import mpmath
 import numpy as np
 import pytest
 from hypothesis import given, settings

@@ -32,7 +32,6 @@ def _work_and_distance(scene, x0, v0, log_events, t_end):
     work = dist = 0.0
     for k, (ta, xa, va) in enumerate(pts):
         tb = pts[k + 1][0] if k + 1 < len(pts) else t_end
-        xb = pts[k + 1][1] if k + 1 < len(pts) else None
         if tb <= ta or kinds[k] in ("stick", "contact", "chatter"):
             continue
         tt = 0.5 * (tb - ta) * _GL_X + 0.5 * (tb + ta)

@@ -77,7 +77,6 @@ def test_fold_of_the_continuation_is_the_closed_form(rendered):
 
 def test_fixed_points_exist_just_below_the_fold_and_not_above():
     f_star = 2 / np.pi
-    z_star = (None, None)
     counts = {}
     for f in (f_star - 1e-3, f_star + 1e-3):
         sc = scenes.wide(f)

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from cross_check.agreement.compare import Event, canonical, ref_events
+from cross_check.agreement.compare import Event
 
 METHODS = ("RK45", "DOP853")
 RTOLS = tuple(10.0 ** -k for k in range(3, 13))

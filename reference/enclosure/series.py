@@ -145,7 +145,7 @@ class Field:
         if order < 2 or variational > order - 1:
             raise ValueError(f"series: need order >= 2 and variational <= order - 1, got "
                              f"{order}, {variational}")
-        F, k, w, c, sf = self.F, self.k, self.w, self.c, self.sf
+        F, k, c, sf = self.F, self.k, self.c, self.sf
         xs = [x, v] + [arb(0)] * (order - 1)
         ju = [acb(0), acb(k * v)]                    # j u_j, u = k x (real; complex for the dot)
         sx, cx = (k * x).sin_cos()
