@@ -13,7 +13,8 @@ every bit, a spread that does not narrow).  A rung that measures ``P'`` too wide
 next the fewest bits where that spread is predicted to be small (:func:`_aimed`), between its
 fixed rungs.  The points that ``fast`` finds on or next to a family
 of fixed points (``tr P' ~ 2``) are not tried or tried on the first rung only (``SINGULAR``,
-:func:`_first_rung_only`).
+:func:`_first_rung_only`), and so are rest states at the edge of a family of them
+(``REST_EDGE_TOL``).
 
 Split from ``tasks`` (which composes the rooms; this module owns the ladder's decisions).
 """
