@@ -42,10 +42,19 @@ MAX_WORKERS = 256
 #: task that sleeps 15 s, three runs: the worker spent 0.44 to 0.52 CPU s with Dask's clocks and
 #: 0.07 with these (~3% of a task's wall time, then 0.5%), and the caller 1.7 to 2.0 against 1.1
 #: to 1.2 for the whole run; the tick alone was 0.28 of the worker's.
+#:
+#: The workers start from a fork server (``multiprocessing``'s ``forkserver``) that has imported
+#: ``PRELOAD`` and the caller's modules once, instead of each one a fresh interpreter (Dask's
+#: ``spawn``) that imports them again (``_forked_workers``).
 LOCAL_CONFIG = {"distributed.worker.profile.enabled": False,
                 "distributed.admin.tick.interval": "1s",
                 "distributed.worker.memory.monitor-interval": "1s",
-                "distributed.admin.system-monitor.interval": "10s"}
+                "distributed.admin.system-monitor.interval": "10s",
+                "distributed.worker.multiprocessing-method": "forkserver"}
+#: what the fork server of a local cluster imports for every command (the caller adds its own)
+PRELOAD = ("distributed", "numpy", "mpmath", "flint", "fast", "reference")
+#: the local clusters open now (``_forked_workers``): the fork server is theirs until the last closes
+_ACTIVE = 0
 
 
 def check_workers(workers) -> int:
@@ -58,10 +67,11 @@ def check_workers(workers) -> int:
 
 
 @contextlib.contextmanager
-def client(scheduler=None, workers=2, *, given=None):
+def client(scheduler=None, workers=2, *, given=None, preload=()):
     """A ``distributed.Client``: ``given`` as it is (not closed here), else one on ``scheduler``,
     else one on a new ``LocalCluster(n_workers=workers, threads_per_worker=1)`` with the settings
-    ``LOCAL_CONFIG``; the ones made here are closed on exit."""
+    ``LOCAL_CONFIG``, its workers forked from a server that has imported ``PRELOAD`` and the
+    modules ``preload`` (``_forked_workers``); the ones made here are closed on exit."""
     if given is not None:
         yield given
         return
@@ -81,11 +91,52 @@ def client(scheduler=None, workers=2, *, given=None):
     import dask
 
     n = check_workers(workers)
-    with dask.config.set(LOCAL_CONFIG):         # the workers take it at their start; nothing else here
-        local = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                             silence_logs=logging.ERROR)
-    with local, Client(local) as own:
-        yield own
+    with _forked_workers(preload):
+        with dask.config.set(LOCAL_CONFIG):     # the workers take it at their start; nothing else here
+            local = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                                 silence_logs=logging.ERROR)
+        with local, Client(local) as own:
+            yield own
+
+
+@contextlib.contextmanager
+def _forked_workers(preload=()):
+    """Start the local workers from one fork server that imports ``PRELOAD + preload`` once;
+    stop it (and reap it) on exit.
+
+    Why: a worker that Dask spawns is a fresh interpreter, which imports Dask (~0.8 CPU s) and
+    then, at its first task, the engines and the rooms (~1.5 to 2 CPU s: numba's LLVM binding,
+    scipy, python-flint); a forked one has them already.  Issue 33, a cluster of two workers that
+    run one task importing ``verify``'s rooms (machine-wide busy CPU, ``/proc/stat``, one run each):
+    9.2 CPU s with ``spawn``, 4.1 with the fork server; one worker 5.7 and 4.1.
+
+    Stopping the server here (``multiprocessing.forkserver``'s own stop, which waits for it) is
+    what makes its CPU and its workers' count in the caller's ``getrusage(RUSAGE_CHILDREN)``: the
+    server reaps each worker as it exits (the cluster has closed them all by then), and the
+    caller reaps the server.  An interpreter without that stop leaves the server to exit with the
+    caller, unreaped: the work is the same, only the caller's account of it misses the workers.
+    Dask's own preload list (set once, on first use) would import ``pandas`` into the caller as
+    well; the flag that says it is set is set here instead.  Clusters made while another is open
+    (a test's inside a module's) share its server, which stops with the last of them."""
+    import multiprocessing
+    from multiprocessing import forkserver
+
+    from distributed import utils
+
+    global _ACTIVE
+    stop = getattr(forkserver._forkserver, "_stop", None)
+    if _ACTIVE == 0:
+        if stop is not None:
+            stop()                       # a server from before would not have this preload
+        multiprocessing.get_context("forkserver").set_forkserver_preload([*PRELOAD, *preload])
+        utils._forkserver_preload_set = True
+    _ACTIVE += 1
+    try:
+        yield
+    finally:
+        _ACTIVE -= 1
+        if _ACTIVE == 0 and stop is not None:
+            stop()
 
 
 def as_done(futures, weights=None):

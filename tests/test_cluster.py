@@ -84,3 +84,4 @@ def _clocks():
 
     return tuple(dask.config.get(f"distributed.{key}") for key in (
         "admin.tick.interval", "worker.memory.monitor-interval", "admin.system-monitor.interval"))
+

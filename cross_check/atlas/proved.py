@@ -232,7 +232,7 @@ def compute(n, claims=tuple(CLAIMS), *, scheduler=None, workers=2, client=None, 
     cells = [(i, j) for i in range(n) for j in range(n)]
     tag = zlib.crc32(repr((tuple(claims), tuple(window), max_leaves, chunk, method, dissip_boxes)).encode())
     chunks = [cells[k:k + chunk] for k in range(0, len(cells), chunk)]
-    with cluster.client(scheduler, workers, given=client) as client:
+    with cluster.client(scheduler, workers, given=client, preload=("cross_check.atlas",)) as client:
         t0 = time.perf_counter()
         futures = {client.submit(evaluate_chunk, n, part, tuple(claims), window, max_leaves, method,
                                  dissip_boxes, retries=RETRIES, pure=False,

@@ -156,7 +156,7 @@ def compute(claims, grid, out_dir, *, scheduler=None, workers=2, chunk=None, pro
              "workers": 0, "task_seconds": 0.0, "task_cpu_seconds": 0.0}
     if not todo:
         return stats
-    with cluster.client(scheduler, workers, given=client) as client:
+    with cluster.client(scheduler, workers, given=client, preload=("cross_check.atlas",)) as client:
         path.parent.mkdir(parents=True, exist_ok=True)
         store.prepare(path, grid, claims, chunk, provenance(grid, claims, chunk, command))
         _run(client, path, grid, claims, todo, stats, say)

@@ -37,6 +37,9 @@ from cross_check.progress import Progress
 
 ADAPTERS = ("fast", "scipy")
 RETRIES = 1
+#: what a local cluster's fork server imports for verify's workers besides ``cluster.PRELOAD``:
+#: the tasks and every room they reach (``cluster._forked_workers``)
+PRELOAD = ("cross_check.verify.tasks",)
 
 
 def _timed(fn, *args):
@@ -103,7 +106,7 @@ def compute(records, depth, *, scheduler=None, workers=2, progress=None, client=
     from cross_check.verify import tasks
 
     progress = progress or (lambda msg: None)
-    with cluster.client(scheduler, workers, given=client) as cl:
+    with cluster.client(scheduler, workers, given=client, preload=PRELOAD) as cl:
         run = _Run(cl, progress)
         for rec in records:
             run.submit(rec["name"], "states", tasks.states, rec, depth)

@@ -1,0 +1,59 @@
+"""The local clusters' fork server (``cross_check.cluster._forked_workers``): the workers have the
+preload, and their CPU counts in the caller's.  A module of its own: no cluster may be open
+around these tests (a cluster made inside another shares that one's server)."""
+import pytest
+
+from cross_check import cluster
+
+pytest.importorskip("distributed", reason="the cluster needs the atlas extra (dask.distributed)")
+
+
+def _seen(module):
+    """What a worker has: ``module`` imported, the hash seed, and its parent's pid."""
+    import os
+    import sys
+
+    return module in sys.modules, os.environ.get("PYTHONHASHSEED"), os.getppid()
+
+
+def _burn(seconds):
+    """Spin on the CPU for ``seconds`` of this process's CPU time."""
+    import time
+
+    t0 = time.process_time()
+    while time.process_time() - t0 < seconds:
+        pass
+    return time.process_time() - t0
+
+
+def test_local_workers_are_forked_from_one_server_that_has_the_preload():
+    """``_forked_workers``: both workers have the caller's ``preload`` before any task imports it
+    (a module nothing else here imports), share one parent (the fork server, not the caller) and
+    Dask's fixed hash seed; a cluster without it in ``preload`` lacks it (the check can fail)."""
+    import os
+
+    module = "xml.dom.minidom"
+    with cluster.client(workers=2, preload=(module,)) as c:
+        seen = set(c.run(_seen, module).values())
+    assert len(seen) == 1
+    has, seed, parent = seen.pop()
+    assert has and seed == "6640" and parent != os.getpid()
+    with cluster.client(workers=1) as c:
+        assert [has for has, _, _ in c.run(_seen, module).values()] == [False]
+
+
+def test_the_workers_cpu_counts_in_the_callers_children_once_the_cluster_closes():
+    """The fork server is stopped and reaped on exit, after it reaped the workers: a task's CPU in
+    a worker shows in the caller's ``getrusage(RUSAGE_CHILDREN)``, as it did with ``spawn``.  A
+    cluster that leaves its server running would show none of it (the check can fail)."""
+    import resource
+
+    def children():
+        r = resource.getrusage(resource.RUSAGE_CHILDREN)
+        return r.ru_utime + r.ru_stime
+
+    before = children()
+    with cluster.client(workers=1) as c:
+        burnt = c.submit(_burn, 1.0, pure=False).result()
+    assert burnt >= 1.0
+    assert children() - before >= burnt
