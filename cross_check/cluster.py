@@ -45,12 +45,11 @@ MAX_WORKERS = 256
 #:
 #: The workers start from a fork server (``multiprocessing``'s ``forkserver``) that has imported
 #: ``PRELOAD`` and the caller's modules once, instead of each one a fresh interpreter (Dask's
-#: ``spawn``) that imports them again (``_forked_workers``).
+#: ``spawn``) that imports them again (``_forked_workers``), where the platform has one.
 LOCAL_CONFIG = {"distributed.worker.profile.enabled": False,
                 "distributed.admin.tick.interval": "1s",
                 "distributed.worker.memory.monitor-interval": "1s",
-                "distributed.admin.system-monitor.interval": "10s",
-                "distributed.worker.multiprocessing-method": "forkserver"}
+                "distributed.admin.system-monitor.interval": "10s"}
 #: what the fork server of a local cluster imports for every command (the caller adds its own)
 PRELOAD = ("distributed", "numpy", "mpmath", "flint", "fast", "reference")
 #: the local clusters open now (``_forked_workers``): the fork server is theirs until the last closes
@@ -91,8 +90,8 @@ def client(scheduler=None, workers=2, *, given=None, preload=()):
     import dask
 
     n = check_workers(workers)
-    with _forked_workers(preload):
-        with dask.config.set(LOCAL_CONFIG):     # the workers take it at their start; nothing else here
+    with _forked_workers(preload) as start:
+        with dask.config.set({**LOCAL_CONFIG, **start}):    # the workers take it at their start; nothing else here
             local = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
                                  silence_logs=logging.ERROR)
         with local, Client(local) as own:
@@ -102,7 +101,8 @@ def client(scheduler=None, workers=2, *, given=None, preload=()):
 @contextlib.contextmanager
 def _forked_workers(preload=()):
     """Start the local workers from one fork server that imports ``PRELOAD + preload`` once;
-    stop it (and reap it) on exit.
+    stop it (and reap it) on exit.  Yields the Dask setting that says so, or ``{}`` on a
+    platform without a fork server (Windows: Dask's ``spawn`` then, as before).
 
     Why: a worker that Dask spawns is a fresh interpreter, which imports Dask (~0.8 CPU s) and
     then, at its first task, the engines and the rooms (~1.5 to 2 CPU s: numba's LLVM binding,
@@ -119,6 +119,10 @@ def _forked_workers(preload=()):
     well; the flag that says it is set is set here instead.  Clusters made while another is open
     (a test's inside a module's) share its server, which stops with the last of them."""
     import multiprocessing
+
+    if "forkserver" not in multiprocessing.get_all_start_methods():
+        yield {}
+        return
     from multiprocessing import forkserver
 
     from distributed import utils
@@ -132,7 +136,7 @@ def _forked_workers(preload=()):
         utils._forkserver_preload_set = True
     _ACTIVE += 1
     try:
-        yield
+        yield {"distributed.worker.multiprocessing-method": "forkserver"}
     finally:
         _ACTIVE -= 1
         if _ACTIVE == 0 and stop is not None:

@@ -57,3 +57,16 @@ def test_the_workers_cpu_counts_in_the_callers_children_once_the_cluster_closes(
         burnt = c.submit(_burn, 1.0, pure=False).result()
     assert burnt >= 1.0
     assert children() - before >= burnt
+
+
+def test_without_a_fork_server_the_workers_are_spawned_as_before(monkeypatch):
+    """A platform without ``forkserver`` (Windows) gets Dask's ``spawn``: the workers are the
+    caller's own children and import the preload themselves, at their first task."""
+    import multiprocessing
+    import os
+
+    monkeypatch.setattr(multiprocessing, "get_all_start_methods", lambda: ["spawn"])
+    module = "xml.dom.minidom"
+    with cluster.client(workers=1, preload=(module,)) as c:
+        [(has, seed, parent)] = c.run(_seen, module).values()
+    assert parent == os.getpid() and not has and seed == "6640"
