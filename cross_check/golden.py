@@ -27,7 +27,9 @@ digits, after checking that a run at ``GOLDEN_DPS + 20`` digits agrees to those 
 input's numbers come from a run at ``PROVED_DPS`` digits instead when its proof (which every
 input gets anyway, here with ``Phi'`` to the working precision) puts each written number within
 ``golden_proved_agreement`` of the truth (``proved_values``; its record says ``"dps": 50``): a
-proof in place of the agreement, at a third of the cost (issue 33).  If any check fails, nothing
+proof in place of the agreement, at a third of the cost (issue 33).  A float64 input's numbers
+come from its proof's balls themselves, the proof guided by a ``GUIDE_DPS``-digit run (its record
+says ``"guide_dps": 20``; ``first_proof``).  If any check fails, nothing
 is written (``GoldenError``).  Provenance (mpmath version and backend, dps, the scene's exact
 parameters, how each state was made) is recorded; the date is not, so that regenerating gives
 byte-identical files (keys in a fixed order, a list of scalars per line: ``dumps``).
@@ -57,8 +59,9 @@ from reference.enclosure.balls import from_mpf
 #: here, with this module's own
 __all__ = ["CHECK_DPS", "DIGITS", "GOLDEN_DPS", "compute", "disagreement", "fmt", "jacobian_digits", "kappa", "record",
            "dumps", "files", "load", "names_in", "scene_of", "N_SAMPLE", "FORMAT", "DEFAULT_DIR", "GoldenError",
-           "scene_record", "PROVED_DPS", "outside_proof", "first_proof", "proved_values", "proved_jacobian",
-           "input_proof", "case_entry", "document", "scene_file", "generate", "main"]
+           "scene_record", "PROVED_DPS", "GUIDE_DPS", "outside_proof", "first_proof", "values_of", "from_balls",
+           "proved_values", "proved_jacobian", "input_proof", "case_entry", "document", "scene_file", "generate",
+           "main"]
 
 N_SAMPLE = 8
 FORMAT = 2
@@ -82,6 +85,15 @@ def scene_record(sc) -> dict:
 #: digits of a position-forced input's point run whose values its proof certifies
 #: (``proved_values``) in place of the dps 90 / 110 pair
 PROVED_DPS = 50
+#: digits of the point run that guides a float64 input's first proof, whose values then come
+#: from that proof's balls (``first_proof``, ``from_balls``).  Issue 33, the 20 inputs of the
+#: drawn scene ``F=2.74 f=0.54 omega=1.06 l=-0.54 r=0.91 wavenumber=1.22`` (one run): the runs
+#: took 4.1 CPU s at 20 digits and 9.0 at 50; every proof guided by a 20-digit run held with
+#: the radius of the one guided at 50 but two, the decimal hard cases that sit on an event (a
+#: turn at the wall, an impact at ``T``), which 20 digits do not resolve -- decimal inputs keep
+#: ``PROVED_DPS`` -- and the 40-digit strings of ``Phi`` and of every event but the chatter
+#: times (which restart pairs give, ``golden_chatter``) were the dps-50 run's
+GUIDE_DPS = 20
 
 
 def outside_proof(res: dict, enc, sc, restarted=()) -> str | None:
@@ -131,19 +143,49 @@ def _unpinned(values, balls, rtol) -> str | None:
 
 
 def first_proof(sc, case):
-    """``(res, enc)``: a position-forced input's ``PROVED_DPS`` run (no Jacobian) and its proof
-    guided by that run's point log (``golden_proof.position_proof``); ``None`` without position
-    forcing."""
+    """``(run, enc)``: a position-forced input's point run (no Jacobian) and its proof guided by
+    that run's point log (``golden_proof.position_proof``); ``None`` without position forcing.
+    A float64 input's run is at ``GUIDE_DPS`` digits, and its values come from the proof
+    (``proved_values``); where that proof does not hold, or the input is a decimal, the run is at
+    ``PROVED_DPS`` and gives the values.  ``run["dps"]`` says which."""
     if not sc.has("position_forcing"):
         return None
-    res = compute(sc, case, PROVED_DPS, jacobian=False)
-    return res, golden_proof.position_proof(sc, case, res["points"])
+    if case.exact == "float64":
+        run = compute(sc, case, GUIDE_DPS, jacobian=False)
+        enc = golden_proof.position_proof(sc, case, run["points"])
+        if enc.proved:
+            return run, enc
+    run = compute(sc, case, PROVED_DPS, jacobian=False)
+    return run, golden_proof.position_proof(sc, case, run["points"])
+
+
+def values_of(sc, run, enc) -> dict:
+    """The values ``proved_values`` holds to the proof ``enc`` of the run ``run``
+    (``first_proof``'s): the proof's balls (``from_balls``) for a ``GUIDE_DPS`` run, else the
+    run's own with ``Phi'`` from the proof's balls."""
+    if run["dps"] == GUIDE_DPS:
+        return from_balls(sc, run, enc)
+    return {**run, "jacobian": golden_proof.midpoints(enc.jacobian), "jacobian_note": None}
+
+
+def from_balls(sc, run, enc) -> dict:
+    """The run ``run`` with ``Phi``, its events (canonical) and ``Phi'`` read from the proof
+    ``enc``'s balls: their midpoints, exact (``golden_proof.midpoint``).  ``outside_proof`` then
+    asks of each ball what it asks of a dps-50 value: that the whole ball lie within
+    ``golden_proved_agreement`` of it, so the written value is that close to the truth."""
+    mid = golden_proof.midpoint
+    events = [e._replace(t=mid(e.t), x=mid(e.x), v=mid(e.v), v_before=None if e.v_before is None else mid(e.v_before))
+              for e in _proved_events(enc, sc)]
+    return {**run, "phi": [mid(b) for b in enc.phi], "events": events,
+            "jacobian": golden_proof.midpoints(enc.jacobian), "jacobian_note": None}
 
 
 def proved_values(sc, case, first=None):
     """``(res, enc)``: a position-forced input's values from one ``PROVED_DPS`` run and its
-    Jacobian from its proof's balls (their midpoints: ``Phi'`` to ~1e-47, ``full_derivative``),
-    every one certified by that proof (``outside_proof``) -- the accumulation times of chatter runs,
+    Jacobian from its proof's balls (their midpoints: ``Phi'`` to ~1e-47, ``full_derivative``), or,
+    for a float64 input, every value from those balls (``values_of``: its run, at ``GUIDE_DPS``,
+    only guided the proof), every one certified by that proof (``outside_proof``) -- the
+    accumulation times of chatter runs,
     which the proof pins only to ~1e-11, by restart pairs instead (``golden_chatter``:
     ``"restarted"`` in the result) -- or ``None`` where that does not hold
     -- then the dps 90 / 110 pair decides (``_self_checked``), as for every other effect.
@@ -164,7 +206,7 @@ def proved_values(sc, case, first=None):
     res, enc = first
     if not enc.proved or enc.jacobian is None:
         return None
-    res = {**res, "jacobian": golden_proof.midpoints(enc.jacobian), "jacobian_note": None}
+    res = values_of(sc, res, enc)
     if outside_proof(res, enc, sc) is None:
         return res, enc
     pairs = golden_chatter.restarts(sc, enc)
@@ -232,6 +274,12 @@ def input_proof(sc, case) -> dict:
     return golden_proof.enclosure(sc, case, first and first[1])
 
 
+def _route(res) -> dict:
+    """The record's word on where a proved input's values come from: ``{"dps": 50}`` (that run)
+    or ``{"guide_dps": 20}`` (the proof's balls, the proof guided by a 20-digit run)."""
+    return {"dps": PROVED_DPS} if res["dps"] == PROVED_DPS else {"guide_dps": res["dps"]}
+
+
 def case_entry(sc, case) -> dict:
     """The golden record of one state of interest (every input of it), after the self-check
     (``GoldenError`` names the scene, the case and the input whose two runs disagree).  Under
@@ -246,7 +294,8 @@ def case_entry(sc, case) -> dict:
         first = first_proof(sc, inp)
         proved = proved_values(sc, inp, first)
         if proved is not None:
-            (res, enc), head = proved, {"x": inp.x, "v": inp.v, "dps": PROVED_DPS}
+            res, enc = proved
+            head = {"x": inp.x, "v": inp.v, **_route(res)}
             if res.get("restarted"):
                 head["chatter_dps"] = list(golden_chatter.RESTART_DPS)
         else:       # the dps 90 / 110 pair; its proof record is still the first proof (input_proof)
@@ -254,8 +303,8 @@ def case_entry(sc, case) -> dict:
             enc = None if first is None else first[1]
             res, head = _self_checked(sc, inp, where, enc), {"x": inp.x, "v": inp.v}
         out = entry["inputs"][label] = {**head, **record(sc, res)}
-        if inp.exact == "float64":       # a dps-50 run (position forcing) guides the band's proofs too
-            out["band"] = (golden_proof.band(sc, inp, first[0]["points"], first[0]["events"]) if first
+        if inp.exact == "float64":       # the first proof's run (position forcing) guides the band's proofs too
+            out["band"] = (golden_proof.band(sc, inp, first[0]["points"], (proved or first)[0]["events"]) if first
                            else golden_proof.band(sc, inp))
         out["enclosure"] = golden_proof.enclosure(sc, inp, enc)
     return entry
@@ -270,7 +319,10 @@ def document(sc, cases: list, n_sample: int = N_SAMPLE, generator: str = "python
             "Jacobian from the midpoints of its enclosure's balls (192 bits, Phi' to the working "
             "precision), every written number of which that enclosure proves within "
             "golden_proved_agreement (1e-40; Phi' x kappa) of the true value, in place of the "
-            f"dps-{CHECK_DPS} run; the others: dps {GOLDEN_DPS} checked at {CHECK_DPS}")
+            f"dps-{CHECK_DPS} run; an input with \"guide_dps\": {GUIDE_DPS} has its values from the "
+            f"midpoints of that enclosure's balls (guided by a dps-{GUIDE_DPS} run), every one of which "
+            "lies within golden_proved_agreement of all of its ball; the others: dps "
+            f"{GOLDEN_DPS} checked at {CHECK_DPS}")
     if any("chatter_dps" in inp for case in cases for inp in case["inputs"].values()):
         doc["provenance"]["chatter_restart"] = golden_chatter.PROVENANCE
     return doc

@@ -150,9 +150,13 @@ def band(sc, case, points=None, events=None) -> bool:
 
 def midpoints(balls) -> list:
     """The midpoints of a matrix of balls as exact ``mpf`` (``golden.proved_values``' Jacobian)."""
-    bits = max(b.mid().man_exp()[0].bit_length() for row in balls for b in row) + 8
-    with mpmath.workprec(bits):
-        return [[to_mpf(b) for b in row] for row in balls]
+    return [[midpoint(b) for b in row] for row in balls]
+
+
+def midpoint(ball):
+    """The midpoint of a ball as an exact ``mpf`` (``golden.from_balls``)."""
+    with mpmath.workprec(ball.mid().man_exp()[0].bit_length() + 8):
+        return to_mpf(ball)
 
 
 def ball_within(value, ball, rtol) -> bool:

@@ -65,6 +65,7 @@ def compute(sc, case, dps: int, jacobian: bool = True) -> dict:
     three runs, each Jacobian factor a fresh Taylor flight, were ~70% of a golden input's cost),
     each value rounded to ``dps`` digits as those calls round it.  ``jacobian=False``: no
     Jacobian (``None``, with the note saying so; ``proved_values`` takes it from the proof).
+    ``"points"``: the run's point log (a proof's guide); ``"dps"``: its digits.
     """
     from reference import api, integrator
 
@@ -80,6 +81,7 @@ def compute(sc, case, dps: int, jacobian: bool = True) -> dict:
             out["events"] = [compare.Event(e.kind, +e.t, +e.x, +e.v, None if e.v_before is None else +e.v_before,
                                            e.count) for e in log]
         out["points"] = (log, (model.l, model.r))   # the point log an enclosure may be guided by
+        out["dps"] = dps
     return out
 
 

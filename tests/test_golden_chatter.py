@@ -1,6 +1,7 @@
 """Chatter inputs under position forcing (issue 33): each accumulation time from a restart pair
 (``cross_check.golden_chatter``) at the proof's last tight bounce, every other value from the
-dps-50 run that the proof certifies (``golden.proved_values``).
+proof's balls (a float64 input; a decimal one's from the dps-50 run) that the proof certifies
+(``golden.proved_values``).
 
 Held to the dps 90 / 110 route: on a sample of the narrow corner (every input chatters three
 times a period) every written string is the one that route writes; so on random inputs of that
@@ -33,7 +34,7 @@ def first():
     name = scenes.register(NARROW) if NARROW.name not in scenes.SCENES else NARROW.name
     case = scenes.sample_states(name, golden.N_SAMPLE)[0]
     res, enc = golden.first_proof(NARROW, case)
-    return case, {**res, "jacobian": golden.golden_proof.midpoints(enc.jacobian), "jacobian_note": None}, enc
+    return case, golden.values_of(NARROW, res, enc), enc
 
 
 def test_a_chatter_input_writes_the_strings_of_the_dps_90_110_route(first):
@@ -46,7 +47,7 @@ def test_a_chatter_input_writes_the_strings_of_the_dps_90_110_route(first):
     assert golden.record(NARROW, proved[0]) == golden.record(NARROW, pair)
 
 
-def test_the_dps_50_run_alone_is_refused_and_the_exemption_covers_the_accumulation_times_alone(first):
+def test_the_values_alone_are_refused_and_the_exemption_covers_the_accumulation_times_alone(first):
     _, res, enc = first
     assert "not within" in golden.outside_proof(res, enc, NARROW)          # t_inf: ~1e-11 from the proof
     chatter = [i for i, _ in golden_chatter.restarts(NARROW, enc)]

@@ -1,7 +1,8 @@
 """Golden data under position forcing: values from a dps-50 run that the input's proof certifies
-(``cross_check.golden.proved_values``, issue 33), in place of the dps 90 / 110 pair.
+(``cross_check.golden.proved_values``, issue 33), in place of the dps 90 / 110 pair; a float64
+input's values from the balls of its proof, guided by a 20-digit run (``golden.from_balls``).
 
-The route is held to the pair's result: on a state of ``fig:xpotno`` and of a scene that is
+Both routes are held to the pair's result: on a state of ``fig:xpotno`` and of a scene that is
 not shipped, every written string equals the one the dps 90 / 110 route writes.  The check
 ``outside_proof`` is seen to refuse: a value moved by more than ``golden_proved_agreement``,
 a Jacobian entry moved beyond it times kappa, a ball too wide to pin 40 digits though it holds
@@ -47,13 +48,22 @@ def xpot():
     return sc, case, res, enc
 
 
+def _decimal(case):
+    """The same state as a decimal input (its strings read as exact decimals): the dps-50 route."""
+    return scenes.Case(case.name, case.x, case.v, "decimal", case.how)
+
+
+@pytest.mark.parametrize("route", ["balls", "run"])
 @pytest.mark.parametrize("which", ["fig:xpotno", "unshipped"])
-def test_the_proved_route_writes_the_strings_of_the_dps_90_110_route(which):
+def test_the_proved_route_writes_the_strings_of_the_dps_90_110_route(which, route):
+    """A float64 input's values from its proof's balls (the proof guided by a ``GUIDE_DPS`` run),
+    a decimal one's from its ``PROVED_DPS`` run: each writes the pair's strings."""
     sc = scenes.scene("fig:xpotno") if which == "fig:xpotno" else UNSHIPPED
-    case = _sample(sc)
+    case = _sample(sc) if route == "balls" else _decimal(_sample(sc))
     proved = golden.proved_values(sc, case)
     assert proved is not None and proved[1].proved
     res = proved[0]
+    assert res["dps"] == (golden.GUIDE_DPS if route == "balls" else golden.PROVED_DPS)
     pair = golden.compute(sc, case, golden.GOLDEN_DPS)
     assert golden.disagreement(pair, golden.compute(sc, case, golden.CHECK_DPS), sc) is None
     assert golden.record(sc, res) == golden.record(sc, pair)
@@ -124,8 +134,35 @@ def test_a_proof_wider_than_the_floor_or_unproved_is_refused(xpot):
     assert "not proved" in golden.outside_proof(res, unproved, sc)
 
 
+def test_a_float64_input_runs_at_the_guide_digits_and_falls_back_to_a_dps_50_run(monkeypatch):
+    """``first_proof``: a float64 input runs the reference once, at ``GUIDE_DPS``, and its record
+    says so (``"guide_dps"``); a decimal one runs at ``PROVED_DPS``; a float64 input whose guided
+    proof fails runs at ``PROVED_DPS``, is proved again with that run's log and takes its values
+    from that run (``"dps": 50``)."""
+    sc = scenes.scene(scenes.register(UNSHIPPED) if UNSHIPPED.name not in scenes.SCENES else UNSHIPPED.name)
+    case, asked, real = _sample(sc, 0), [], golden.compute
+    monkeypatch.setattr(golden, "compute", lambda s, c, d, jacobian=True: asked.append(d) or real(s, c, d, jacobian))
+    run, enc = golden.first_proof(sc, case)
+    assert asked == [golden.GUIDE_DPS] and run["dps"] == golden.GUIDE_DPS and enc.proved
+    assert golden._route(golden.proved_values(sc, case, (run, enc))[0]) == {"guide_dps": golden.GUIDE_DPS}
+    asked.clear()
+    assert golden.first_proof(sc, _decimal(case))[0]["dps"] == golden.PROVED_DPS and asked == [golden.PROVED_DPS]
+    asked.clear()
+    position_proof = golden_proof.position_proof
+
+    def fails_at_the_guide(scene, c, points=None):
+        enc = position_proof(scene, c, points)
+        return dataclasses.replace(enc, proved=False, reason="test") if asked[-1] == golden.GUIDE_DPS else enc
+
+    monkeypatch.setattr(golden_proof, "position_proof", fails_at_the_guide)
+    run, enc = golden.first_proof(sc, case)
+    assert asked == [golden.GUIDE_DPS, golden.PROVED_DPS] and run["dps"] == golden.PROVED_DPS and enc.proved
+    assert golden._route(golden.proved_values(sc, case, (run, enc))[0]) == {"dps": golden.PROVED_DPS}
+
+
 def test_a_refused_input_falls_back_to_the_pair_and_its_self_check(xpot, monkeypatch):
-    sc, case, _, _ = xpot
+    sc, sample, _, _ = xpot
+    case = _decimal(sample)                         # the dps-50 route, whose run is made shaky
     real = golden.compute
 
     def shaky(scene, c, dps, bad=(golden.PROVED_DPS,), jacobian=True):
@@ -138,11 +175,13 @@ def test_a_refused_input_falls_back_to_the_pair_and_its_self_check(xpot, monkeyp
     monkeypatch.setattr(golden, "compute", shaky)
     proofs, position_proof = [], golden_proof.position_proof
     monkeypatch.setattr(golden_proof, "position_proof", lambda *a, **k: proofs.append(a) or position_proof(*a, **k))
-    entry = golden.case_entry(sc, case)["inputs"]["exact"]
-    assert "dps" not in entry                       # the dps 90 / 110 route wrote it
+    both = golden.case_entry(sc, case)["inputs"]
+    entry = both["exact"]
+    assert "dps" not in entry and "guide_dps" not in entry      # the dps 90 / 110 route wrote it
+    assert both["float64"]["guide_dps"] == golden.GUIDE_DPS      # its float64 twin: the balls, unshaken
     assert entry["phi"] == golden.record(sc, real(sc, case, golden.GOLDEN_DPS))["phi"]
     # its proof record is its first proof, made once, and what ``prove --golden`` makes again
-    assert len(proofs) == 1 and entry["enclosure"]["proved"]
+    assert len([a for a in proofs if a[1] is case]) == 1 and entry["enclosure"]["proved"]
     assert entry["enclosure"] == golden.input_proof(sc, case)
     monkeypatch.setattr(golden, "compute", lambda s, c, d, jacobian=True: shaky(s, c, d, (golden.PROVED_DPS, golden.CHECK_DPS), jacobian))
     with pytest.raises(golden.GoldenError, match="dps 90 vs 110"):
@@ -150,12 +189,18 @@ def test_a_refused_input_falls_back_to_the_pair_and_its_self_check(xpot, monkeyp
 
 
 def test_every_shipped_position_forced_input_is_certified_by_its_proof():
-    """The shipped ``fig:xpotno`` file was written by the proved route throughout (24 inputs),
-    and its stored proofs pin every written ``Phi'`` entry within ``golden_proved_agreement``
-    (the half-order proofs it held before were ~1e-29 wide)."""
+    """The shipped ``fig:xpotno`` file was written by the proved routes throughout (24 inputs: the
+    16 float64 ones from their proofs' balls, the 8 decimal ones from dps-50 runs), and its stored
+    proofs pin every written ``Phi'`` entry within ``golden_proved_agreement`` (the half-order
+    proofs it held before were ~1e-29 wide)."""
     data = golden.load("fig:xpotno")
-    inputs = [inp for case in data["cases"] for inp in case["inputs"].values()]
-    assert inputs and all(inp.get("dps") == golden.PROVED_DPS for inp in inputs)
+    inputs = [(label == "exact" and case["exact"] == "decimal", inp)
+              for case in data["cases"] for label, inp in case["inputs"].items()]
+    assert len(inputs) == 24
+    assert all(inp.get("dps") == golden.PROVED_DPS and "guide_dps" not in inp for dec, inp in inputs if dec)
+    assert all(inp.get("guide_dps") == golden.GUIDE_DPS and "dps" not in inp for dec, inp in inputs if not dec)
+    assert sum(dec for dec, _ in inputs) == 8
+    inputs = [inp for _, inp in inputs]
     rtol = tol("golden_proved_agreement").rtol
     for inp in inputs:
         if inp["jacobian"] is not None:
