@@ -232,6 +232,28 @@ def test_the_report_says_what_each_scenes_data_proves():
     assert "- `forced`: 1/1 golden inputs proved" in text and "self-agreement alone" not in text
 
 
+def test_the_report_says_what_each_scenes_golden_values_rest_on():
+    """``document.sources``: per scene, how many inputs have their values from their proofs' balls
+    (``"guide_dps"``), from a dps-50 run their proofs certify (``"dps"``), from the dps 90 / 110
+    pair (neither key), and how many have chatter times from restart pairs -- counted, so another
+    mix says other numbers; a closed-form scene's file names the pair alone."""
+    doc = {"cases": [{"name": "sample-0", "inputs": {"exact": {"guide_dps": 20}}},
+                     {"name": "chatter", "inputs": {"exact": {"dps": 50, "chatter_dps": [60, 80]},
+                                                    "float64": {"guide_dps": 20}}},
+                     {"name": "grazing", "inputs": {"exact": {}, "float64": {"guide_dps": 20}}}]}
+    said = document.sources(doc)
+    assert said.startswith("Golden values: 3 from the midpoints of the input's own proof's balls")
+    assert "; 1 from a dps-50 run that the input's proof certifies" in said
+    assert "; 1 from a dps-90 run checked at dps 110" in said and "chatter times of 1 of them" in said
+    doc["cases"][1]["inputs"]["exact"] = {}
+    assert "2 from a dps-90 run" in document.sources(doc) and "dps-50" not in document.sources(doc)
+    closed = {"cases": [{"name": "sample-0", "inputs": {"exact": {}}}]}
+    assert document.sources(closed) == "Golden values: 1 from a dps-90 run checked at dps 110."
+    inp = {"guide_dps": 20, "enclosure": {"proved": True, "radius": "1e-55"}}
+    one = {"document": {"cases": [{"name": "sample-0", "inputs": {"exact": inp}}]}, "dropped": []}
+    assert "Golden values: 1 from the midpoints" in "\n".join(document._golden_section(one))
+
+
 @pytest.fixture
 def faked_orbit(monkeypatch):
     """``(scene, point)``: a saddle of ``fig:xpotno`` for ``ladder.proof`` with ``prove`` faked by the

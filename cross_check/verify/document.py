@@ -3,7 +3,8 @@
 A scene's checks (``checks``), each failed one listed in the summary and the exit status 1:
 
 * **tasks**: every unit of work ran (an exception is listed with the task);
-* **golden self-agreement**: every sample state's golden record passed the dps 90 / 110 check (a
+* **golden self-agreement**: every sample state's golden record passed its check -- the dps 90 / 110
+  pair, or under position forcing its proof (``sources`` says which, per scene) -- (a
   hard case that fails it is left out of the golden data with the reason: a listed limitation of
   that construction, not a failure of the scene);
 * **golden proofs**: every golden input is proved (``reference.enclosure``: under position forcing
@@ -122,6 +123,25 @@ def _hard_section(st, g):
     return lines
 
 
+#: what an input's written values rest on, by the key its golden record carries (``golden.case_entry``)
+SOURCES = (("guide_dps", "from the midpoints of the input's own proof's balls, each ball within 1e-40 of its value"),
+           ("dps", "from a dps-50 run that the input's proof certifies to 1e-40"),
+           (None, "from a dps-90 run checked at dps 110"))
+
+
+def sources(doc) -> str:
+    """One sentence: how many golden inputs of the file ``doc`` have their values from each source
+    (``SOURCES``), and how many have chatter times from restart pairs (``golden_chatter``)."""
+    inputs = [inp for _, _, inp in _golden_inputs(doc)]
+    keys = [next((key for key, _ in SOURCES if key in inp), None) for inp in inputs]
+    text = "Golden values: " + "; ".join(f"{keys.count(key)} {what}" for key, what in SOURCES if key in keys)
+    restarted = sum("chatter_dps" in inp for inp in inputs)
+    if restarted:
+        text += (f"; the chatter times of {restarted} of them from restart pairs (dps 60 checked at 80) within "
+                 "their proofs' balls")
+    return text + "."
+
+
 def _golden_section(g):
     p, n = _proved_fraction(g["document"])
     lines = [f"Golden data: `golden/` -- {len(g['document']['cases'])} states, {n} inputs, {p} proved "
@@ -129,6 +149,8 @@ def _golden_section(g):
     radii = [float(inp["enclosure"]["radius"]) for _, _, inp in _golden_inputs(g["document"]) if inp["enclosure"]["proved"]]
     if radii:
         lines[0] += f"  Widest proved relative radius of Phi: {max(radii):.1e}."
+    if n:
+        lines[0] += "  " + sources(g["document"])
     unproved = [(c, lab, inp["enclosure"]["reason"]) for c, lab, inp in _golden_inputs(g["document"])
                 if not inp["enclosure"]["proved"]]
     if unproved:
@@ -215,7 +237,7 @@ def scene_section(rec, got, failed, slug) -> list[str]:
     if g is not None:
         lines += _golden_section(g) + [""]
     if a is not None:
-        lines += ["Fast against the reference (its golden data: dps 90, checked at dps 110; ten periods: fast's "
+        lines += ["Fast against the reference (its golden data, from the sources above; ten periods: fast's "
                   f"scorecard, against the reference at {TEN_DPS} digits), samples:", ""]
         lines += sections.agreement_table({name: {**a["samples"], "map10": _ten_periods(got, name)}}) + [""]
         if a["hard"]:
@@ -258,10 +280,11 @@ def render(records, results, depth) -> tuple[str, list]:
         head += ["Every check holds: golden self-agreement, a proof per golden input, fast's itinerary equal "
                  "to the reference's outside the near-grazing band, no kind flagged on fast's scorecard.", ""]
     head += ["Digits: significant correct digits, `-log10(|a - ref| / max(1, |ref|))`, capped at 17.  "
-             "Golden data in `golden/` (40 digits, dps 90 checked at 110, a proof per input): "
+             "Golden data in `golden/` (40 digits, a proof per input; each scene's section says what its "
+             "values rest on): "
              "`python -m cross_check score ADAPTER --golden-dir golden`, "
              "`python -m cross_check prove --golden --golden-dir golden`, `pytest --golden-dir golden`.", ""]
     return "\n".join(head + body) + "\n", failed_all
 
 
-__all__ = ["checks", "proves", "render", "scene_section"]
+__all__ = ["checks", "proves", "sources", "render", "scene_section"]
