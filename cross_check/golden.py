@@ -303,8 +303,9 @@ def case_entry(sc, case) -> dict:
             enc = None if first is None else first[1]
             res, head = _self_checked(sc, inp, where, enc), {"x": inp.x, "v": inp.v}
         out = entry["inputs"][label] = {**head, **record(sc, res)}
-        if inp.exact == "float64":       # the first proof's run (position forcing) guides the band's proofs too
-            out["band"] = (golden_proof.band(sc, inp, first[0]["points"], (proved or first)[0]["events"]) if first
+        if inp.exact == "float64":       # the first proof's run (position forcing) guides the band's proofs
+            # too, and the moves are compared with the itinerary written
+            out["band"] = (golden_proof.band(sc, inp, first[0]["points"], res["events"]) if first
                            else golden_proof.band(sc, inp))
         out["enclosure"] = golden_proof.enclosure(sc, inp, enc)
     return entry
