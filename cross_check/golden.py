@@ -277,7 +277,7 @@ def input_proof(sc, case) -> dict:
 def _route(res) -> dict:
     """The record's word on where a proved input's values come from: ``{"dps": 50}`` (that run)
     or ``{"guide_dps": 20}`` (the proof's balls, the proof guided by a 20-digit run)."""
-    return {"dps": PROVED_DPS} if res["dps"] == PROVED_DPS else {"guide_dps": res["dps"]}
+    return {"guide_dps": GUIDE_DPS} if res["dps"] == GUIDE_DPS else {"dps": PROVED_DPS}
 
 
 def case_entry(sc, case) -> dict:

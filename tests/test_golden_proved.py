@@ -357,7 +357,8 @@ def test_a_random_input_outside_the_band_is_proved(sc, i, j):
     """Every parameter and effect drawn (``position_forced_scenes``, restitution 0 among them),
     a float64 input ``x = l + (r - l) i / 64``, ``v = (j / 4) F / w``: outside the band (the
     reference's itinerary holds under moves of a few ulps: ``golden_proof.band``) its first proof
-    (``golden.first_proof``: a dps-50 run guiding the enclosure) holds.  Issue 33: at
+    (``golden.first_proof``: a 20-digit run guiding the enclosure, a dps-50 one where that fails)
+    holds.  Issue 33: at
     restitution 0 the walk refused every plastic impact, and ``verify`` failed on such scenes
     (6 of 24 inputs unproved on one drawn at random); with that walk this test fails on a
     restitution-0 example ("impact ... leaves no speed (contact)")."""
@@ -379,3 +380,18 @@ def test_a_random_input_outside_the_band_is_proved_without_position_forcing(sc, 
     assume(not golden_proof.band(sc, case))
     rec = golden_proof.enclosure(sc, case)
     assert rec["proved"], (sc, case, rec.get("reason"))
+
+
+@pytest.mark.slow
+@settings(max_examples=10, deadline=None)
+@given(position_forced_scenes(), st.integers(1, 63), st.integers(-8, 8))
+def test_a_random_input_read_from_its_proofs_balls_writes_the_strings_of_the_dps_90_110_route(sc, i, j):
+    """Every parameter and effect drawn, a float64 input as above: where its values come from its
+    proof's balls (``golden.from_balls``, the proof guided by a ``GUIDE_DPS`` run) and the dps 90 /
+    110 pair agrees with itself, every string written is the pair's."""
+    case = _random_input(sc, i, j)
+    proved = golden.proved_values(sc, case)
+    assume(proved is not None and proved[0]["dps"] == golden.GUIDE_DPS)
+    pair = golden.compute(sc, case, golden.GOLDEN_DPS)
+    assume(golden.disagreement(pair, golden.compute(sc, case, golden.CHECK_DPS), sc) is None)
+    assert golden.record(sc, proved[0]) == golden.record(sc, pair), (sc, case)
