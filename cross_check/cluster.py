@@ -45,7 +45,8 @@ MAX_WORKERS = 256
 #:
 #: The workers start from a fork server (``multiprocessing``'s ``forkserver``) that has imported
 #: ``PRELOAD`` and the caller's modules once, instead of each one a fresh interpreter (Dask's
-#: ``spawn``) that imports them again (``_forked_workers``), where the platform has one.
+#: ``spawn``) that imports them again (``_forked_workers``), where the platform has one; on Linux,
+#: from a one-thread caller, that server is a fork of the caller (``_fork_server``).
 LOCAL_CONFIG = {"distributed.worker.profile.enabled": False,
                 "distributed.admin.tick.interval": "1s",
                 "distributed.worker.memory.monitor-interval": "1s",
@@ -108,7 +109,10 @@ def _forked_workers(preload=()):
     then, at its first task, the engines and the rooms (~1.5 to 2 CPU s: numba's LLVM binding,
     scipy, python-flint); a forked one has them already.  Issue 33, a cluster of two workers that
     run one task importing ``verify``'s rooms (machine-wide busy CPU, ``/proc/stat``, one run each):
-    9.2 CPU s with ``spawn``, 4.1 with the fork server; one worker 5.7 and 4.1.
+    9.2 CPU s with ``spawn``, 4.1 with the fork server; one worker 5.7 and 4.1.  The server itself
+    is a fork of the caller where that is safe (``_fork_server``): a ``verify --quick`` of the
+    issue's first scene spent 6.1 and 6.1 CPU s besides its tasks with a spawned server, 3.7 and
+    3.4 with a forked one (two runs each, alternating; the same report but for its times).
 
     Stopping the server here (``multiprocessing.forkserver``'s own stop, which waits for it) is
     what makes its CPU and its workers' count in the caller's ``getrusage(RUSAGE_CHILDREN)``: the
@@ -134,6 +138,7 @@ def _forked_workers(preload=()):
             stop()                       # a server from before would not have this preload
         multiprocessing.get_context("forkserver").set_forkserver_preload([*PRELOAD, *preload])
         utils._forkserver_preload_set = True
+        _fork_server([*PRELOAD, *preload])
     _ACTIVE += 1
     try:
         yield {"distributed.worker.multiprocessing-method": "forkserver"}
@@ -141,6 +146,69 @@ def _forked_workers(preload=()):
         _ACTIVE -= 1
         if _ACTIVE == 0 and stop is not None:
             stop()
+
+
+def _fork_server(preload) -> bool:
+    """Start ``multiprocessing``'s fork server as a fork of this process, which has imported the
+    engines and the rooms already, rather than as a fresh interpreter that imports ``preload``
+    again; ``True`` if it did.  The server then imports what of ``preload`` this process lacks,
+    and the workers are forked from it as before.
+
+    Why: the spawned server's imports were ~2.5 of the ~6.7 CPU s that a ``verify`` run spent
+    besides its tasks (issue 33), and the caller had made the same imports already.
+
+    Only where that is safe and the protocol is the one known here: Linux (no Objective-C runtime
+    to trip over a fork), one thread in this process (a fork copies no other thread, nor the locks
+    they might hold: the commands make their cluster before any thread starts; a test run may not
+    have one), no server running, and ``multiprocessing.forkserver`` as in Python 3.11 to 3.13
+    (3.14's server takes an authentication key).  Elsewhere ``False``, and the server is spawned as
+    before.  The workers then share the caller's hash seed (each other's, as Dask's fixed one
+    made them)."""
+    import os
+    import socket
+    import sys
+    import threading
+    from multiprocessing import connection, forkserver, resource_tracker, util
+
+    fs = forkserver._forkserver
+    known = all(hasattr(fs, a) for a in ("_forkserver_address", "_forkserver_alive_fd", "_forkserver_pid", "_stop"))
+    if (not sys.platform.startswith("linux") or threading.active_count() != 1 or not known
+            or hasattr(fs, "_forkserver_authkey") or fs._forkserver_pid is not None):
+        return False
+    resource_tracker.ensure_running()    # as ``ensure_running`` does: the workers are handed its fd
+    with socket.socket(socket.AF_UNIX) as listener:
+        address = connection.arbitrary_address("AF_UNIX")
+        listener.bind(address)
+        if not util.is_abstract_socket_namespace(address):
+            os.chmod(address, 0o600)
+        listener.listen()
+        alive_r, alive_w = os.pipe()     # the server stops when the write end closes (``_stop``)
+        pid = os.fork()
+        if pid == 0:                     # the server: it never returns here
+            code = 1
+            try:
+                os.close(alive_w)
+                _fresh_precisions()
+                forkserver.main(listener.fileno(), alive_r, list(preload))
+            except SystemExit as exc:    # its way out once no client is left
+                code = exc.code if isinstance(exc.code, int) else 0
+            finally:
+                os._exit(code)
+        os.close(alive_r)
+    fs._forkserver_address, fs._forkserver_alive_fd, fs._forkserver_pid = address, alive_w, pid
+    return True
+
+
+def _fresh_precisions():
+    """The process-wide precisions of mpmath and python-flint back at their defaults, as in a
+    fresh interpreter (a forked server would otherwise hand its workers whatever the caller had
+    set)."""
+    import sys
+
+    if "mpmath" in sys.modules:
+        sys.modules["mpmath"].mp.prec = 53
+    if "flint" in sys.modules:
+        sys.modules["flint"].ctx.default()
 
 
 def as_done(futures, weights=None):

@@ -70,3 +70,68 @@ def test_without_a_fork_server_the_workers_are_spawned_as_before(monkeypatch):
     with cluster.client(workers=1, preload=(module,)) as c:
         [(has, seed, parent)] = c.run(_seen, module).values()
     assert parent == os.getpid() and not has and seed == "6640"
+
+
+#: run in a fresh interpreter (one thread, as the commands are when they make their cluster): the
+#: workers of a cluster made there, then of one made with a second thread running
+_FORKED_FROM_CALLER = r"""
+import os, resource, sys, threading, types
+from cross_check import cluster
+
+def seen():
+    import os, sys
+    import flint, mpmath
+    return "_made_by_the_caller" in sys.modules, hash("abc"), os.getppid(), mpmath.mp.prec, flint.ctx.prec
+
+def burn(seconds):
+    import time
+    t0 = time.process_time()
+    while time.process_time() - t0 < seconds:
+        pass
+    return time.process_time() - t0
+
+def children():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+sys.modules["_made_by_the_caller"] = types.ModuleType("_made_by_the_caller")
+import flint, mpmath
+mpmath.mp.prec, flint.ctx.prec = 200, 300         # the caller's; a fresh interpreter's are 53
+before = children()
+with cluster.client(workers=2) as c:
+    forked = sorted(c.run(seen).values())
+    burnt = c.submit(burn, 1.0, pure=False).result()
+print("forked", forked, hash("abc"), os.getpid(), burnt, children() - before)
+stop = threading.Event()
+waiter = threading.Thread(target=stop.wait)
+waiter.start()
+with cluster.client(workers=1) as c:
+    print("threaded", sorted(c.run(seen).values()))
+stop.set()
+"""
+
+
+def test_the_fork_server_is_a_fork_of_a_one_thread_caller_and_its_workers_cpu_still_counts():
+    """``_fork_server``: in a one-thread caller on Linux the server is a fork of the caller, so
+    the workers have what the caller had made (a module no file holds) and the caller's hash seed,
+    but mpmath's and python-flint's default precisions, not the caller's, and their parent is the
+    server, not the caller; a task's CPU in a worker still shows in the
+    caller's ``getrusage(RUSAGE_CHILDREN)``.  With a second thread running the server is spawned
+    and the workers lack that module (the check can fail)."""
+    import ast
+    import subprocess
+    import sys
+
+    if not sys.platform.startswith("linux"):
+        pytest.skip("the server is a fork of the caller on Linux only (cluster._fork_server)")
+    out = subprocess.run([sys.executable, "-c", _FORKED_FROM_CALLER], capture_output=True, text=True,
+                         timeout=240, check=True).stdout.splitlines()
+    forked = next(line for line in out if line.startswith("forked "))
+    rows, seed, pid, burnt, counted = forked[len("forked "):].rsplit(" ", 4)
+    rows = ast.literal_eval(rows)
+    assert len(rows) == 2 and all(has and h == int(seed) and parent != int(pid) for has, h, parent, *_ in rows), out
+    assert rows[0][2] == rows[1][2]              # one server
+    assert all(row[3:] == (53, 53) for row in rows), out       # mpmath's and flint's precisions
+    assert float(burnt) >= 1.0 and float(counted) >= float(burnt), out
+    threaded = ast.literal_eval(next(line for line in out if line.startswith("threaded "))[len("threaded "):])
+    assert [row[0] for row in threaded] == [False], out
