@@ -166,6 +166,53 @@ def test_the_certificate_refuses_a_backward_flight_that_meets_an_earlier_event()
     assert not ok[2] and ok[3]
 
 
+def _refused_rows(scene, t, s, bk):
+    """Per flight, whether ``construct_position._refused`` refuses it on all its samples."""
+    return CP._refused(scene, t, s)(bk.x, bk.v, bk.err, bk.vmax)
+
+
+@settings(max_examples=8)
+@given(position_forced_scenes(restitutions=("1", "0.9", "0.6")))
+def test_a_flight_the_screen_gives_up_on_fails_the_whole_certificate(scene):
+    """``_refused`` (the screen's early stop) says no only to flights that the whole run's
+    certificate refuses too, on event states across the gap and the period; a screen that gives
+    up passes exactly the flights the whole run passes."""
+    F, f, w, l, r, c, k, _ = CP.params(scene)
+    t, x, v, s = _event_states(scene, 27, 40)
+    decel = s * F * np.cos(k * x) * np.cos(w * t) - f - c * np.abs(v)
+    bk, ok = CP.backward(scene, t, x, v, s, decel, matrices=False)
+    assert not (_refused_rows(scene, t, s, bk) & ok).any()
+    _, screened = CP.backward(scene, t, x, v, s, decel, matrices=False, give_up=True)
+    assert np.array_equal(screened, ok)
+
+
+def test_the_screen_stops_once_every_flight_fails_and_not_before():
+    """Flights that all fail -- two impacts at r so fast that they cross l before t = 0 (the wall
+    behind them) and a stop whose flight turns before t* (``s v`` below the floor) -- stop early,
+    with ``ok`` all False as the whole run gives; with one harmless flight among them the run
+    goes on to ``t = 0``, its samples bit for bit the whole run's."""
+    scene = SCENES["A"]
+    F, f, w, l, r, c, k, _ = CP.params(scene)
+    T = scene.period
+    t = np.array([0.9 * T, 0.8 * T, 0.9 * T, 0.05 * T])
+    x = np.array([r, r, 0.2, r])
+    v = np.array([3.0, 3.5, 0.0, 3.0])
+    s = np.array([1.0, 1.0, -1.0, 1.0])
+    decel = s * F * np.cos(k * x) * np.cos(w * t) - f - c * np.abs(v)
+    whole, ok = CP.backward(scene, t, x, v, s, decel, matrices=False)
+    assert list(ok) == [False, False, False, True]
+    lost = _refused_rows(scene, t, s, whole)
+    assert list(lost) == [True, True, True, False]
+    behind = np.where(s > 0, whole.x[1:] + whole.err[1:] < l, whole.x[1:] - whole.err[1:] > r)
+    assert behind[:, :2].any(axis=0).all() and not behind[:, 2].any()     # two by the wall, one by the floor
+    gave_up, none = CP.backward(scene, t[:3], x[:3], v[:3], s[:3], decel[:3], matrices=False, give_up=True)
+    assert not none.any() and np.isnan(gave_up.v[-1]).all() and np.isnan(gave_up.x0).all()
+    went_on, same = CP.backward(scene, t, x, v, s, decel, matrices=False, give_up=True)
+    assert np.array_equal(same, ok)
+    for name in ("x", "v", "err", "vmax", "x0", "v0"):
+        assert np.array_equal(getattr(went_on, name), getattr(whole, name)), name
+
+
 def test_bad_arguments():
     with pytest.raises(ValueError, match="position forcing"):
         CP.params(Scene(F=1, f="0.1", omega=1, l=0, r=1))

@@ -187,12 +187,15 @@ def _substeps(P, vabs, D, active):
     return MAX_SUB
 
 
-def run(P: Params, t_star, x_star, v_star, s, samples, matrices=True):
+def run(P: Params, t_star, x_star, v_star, s, samples, matrices=True, lost=None):
     """Backward flights from the event states (arrays) to ``t = 0`` (module docstring).
     ``matrices=False``: without the flight matrices, so without the event-state error ``(dx,
     dv)`` (NaN): what a screen by the certificate needs (samples, their Gronwall error, ``vmax``,
     the start), at ~60% of the cost (issue 33: the hard cases' float screen of the narrow
-    corner, 12 batches, 6.0 -> 4.2 CPU s under a profiler; the same cases)."""
+    corner, 12 batches, 6.0 -> 4.2 CPU s under a profiler; the same cases).  ``lost(x, v,
+    err, vmax)``: after each sample, which flights a screen has refused already (from the samples
+    ``x[:j + 1]``, ``v[:j + 1]``, ``err[:j + 1]`` so far); once all are, the run stops: the rows not reached and
+    the start are NaN and ``ok`` is all False."""
     n = t_star.size
     D = t_star / samples
     yh, yl = x_star.astype(float).copy(), np.zeros(n)
@@ -232,6 +235,10 @@ def run(P: Params, t_star, x_star, v_star, s, samples, matrices=True):
                 ev += (np.abs(M[2]) * lx + np.abs(M[0]) * lv) / det
             err = err * np.exp(L * h) + np.maximum(lx, lv)
         xs[j + 1], vs[j + 1], errs[j + 1] = yh, -dh, err
+        if lost is not None and lost(xs[:j + 2], vs[:j + 2], errs[:j + 2], vmax).all():
+            xs[j + 2:], vs[j + 2:], errs[j + 2:] = np.nan, np.nan, np.nan
+            nan = np.full(n, np.nan)
+            return Backward(xs, vs, errs, vmax, nan, nan, nan, nan.copy(), np.zeros(n, bool))
     # the clock ends at th + tl ~ 0 (a few ulp of t*): the state at exactly t = 0
     r = th + tl
     acc = P.F * np.cos(P.k * yh) * np.cos(P.w * r) - s * P.f + P.c * dh

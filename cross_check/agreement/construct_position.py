@@ -57,15 +57,21 @@ def params(scene: Scene):
     return tuple(scene.float(k) for k in ("F", "f", "omega", "l", "r", "damping", "wavenumber", "restitution"))
 
 
+def _bound_v2(scene, vmax):
+    """``M2``, the bound of ``|v''|`` on a flight whose ``|v|`` stays below ``vmax`` (module
+    docstring); it grows with ``vmax``."""
+    F, f, w, _, _, c, k, _ = params(scene)
+    return F * w + F * k * vmax + c * (F + f + c * vmax)
+
+
 def _no_earlier_event(scene, t_star, s, bk, decel):
     """The certificate of the module docstring on the backward samples ``bk``; ``decel`` is
     ``s x''(t*)`` (used where ``v* = 0``)."""
-    F, f, w, l, r, c, k, _ = params(scene)
+    l, r = scene.float("l"), scene.float("r")
     n = base.SAMPLES
     v, E = bk.v[::-1].T, bk.err[::-1].T                 # row j at t = t* j / n
     D = t_star / n
-    M1 = F + f + c * bk.vmax
-    M2 = F * w + F * k * bk.vmax + c * M1
+    M2 = _bound_v2(scene, bk.vmax)
     g2 = s[:, None] * v - E
     floor2 = M2 * D * D / 8
     decreasing = decel + M2 * D < 0
@@ -75,12 +81,40 @@ def _no_earlier_event(scene, t_star, s, bk, decel):
     return ok & bk.ok
 
 
-def backward(scene, t_star, x_star, v_star, s, decel, matrices=True):
+def backward(scene, t_star, x_star, v_star, s, decel, matrices=True, give_up=False):
     """The backward flights (``backflight.run``; ``matrices``: with the event-state error) from
-    the event states and the certificate of each (``decel = s x''(t*)``): ``(Backward, ok)``."""
+    the event states and the certificate of each (``decel = s x''(t*)``): ``(Backward, ok)``.
+
+    ``give_up``: stop the flights once every one of them has a sample that fails the
+    certificate already (``_refused``), with ``ok`` all False, as the whole run would give: a
+    screen of candidates that all fail (issue 33: on ``F=2.74 f=0.54 omega=1.06 l=-0.54 r=0.91
+    wavenumber=1.22`` the three kinds whose candidates all failed took 3.1 of the hard cases'
+    3.6 CPU s of float screens, their flights run to ``t = 0`` after they had left the gap)."""
+    lost = _refused(scene, t_star, s) if give_up else None
     bk = backflight.run(backflight.Params.of(scene), t_star, x_star, v_star, s, base.SAMPLES,
-                        matrices)
+                        matrices, lost=lost)
     return bk, _no_earlier_event(scene, t_star, s, bk, decel)
+
+
+def _refused(scene, t_star, s):
+    """``lost(x, v, err, vmax)`` for ``backflight.run``: the flights with a sample (the rows
+    after the event's) that fails the certificate of the whole run already --
+
+    * ``s v - E`` at most the floor ``M2 D^2 / 8`` with the ``vmax`` so far (its ``v`` and ``E``
+      are final, and the floor only grows with ``vmax``), or
+    * ``x`` beyond the wall behind the motion by more than its ``E`` (``x + E < l`` for ``s = 1``,
+      ``x - E > r`` for ``s = -1``): were every sample to pass, ``x`` would be monotone, so the
+      true ``x(0)`` would lie beyond that wall too, and the start's test ``l <= x0 -+ E_0 <= r``
+      (``E_0``, the last error, is the largest) would fail."""
+    D = t_star / base.SAMPLES
+    l, r = scene.float("l"), scene.float("r")
+
+    def lost(x, v, err, vmax):
+        floor2 = _bound_v2(scene, vmax) * D * D / 8
+        x, v, err = x[1:], v[1:], err[1:]
+        behind = np.where(s > 0, x + err < l, x - err > r)
+        return np.any((s * v - err <= floor2) | behind, axis=0)
+    return lost
 
 
 def _wall_candidates(scene, rng, n, kind):

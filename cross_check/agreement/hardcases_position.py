@@ -185,7 +185,7 @@ def _float_screen(scene, candidates):
     F, f, w, _, _, c, k, _ = construct_position.params(scene)
     t, x, v, s = (np.array([float(z[i]) for z in candidates]) for i in range(4))
     decel = s * F * np.cos(k * x) * np.cos(w * t) - f - c * np.abs(v)
-    _, ok = construct_position.backward(scene, t, x, v, s, decel, matrices=False)
+    _, ok = construct_position.backward(scene, t, x, v, s, decel, matrices=False, give_up=True)
     return list(np.flatnonzero(ok))
 
 
