@@ -188,7 +188,7 @@ def _fork_server(preload) -> bool:
             code = 1
             try:
                 os.close(alive_w)
-                _fresh_precisions()
+                _fresh_state()
                 forkserver.main(listener.fileno(), alive_r, list(preload))
             except SystemExit as exc:    # its way out once no client is left
                 code = exc.code if isinstance(exc.code, int) else 0
@@ -199,16 +199,23 @@ def _fork_server(preload) -> bool:
     return True
 
 
-def _fresh_precisions():
-    """The process-wide precisions of mpmath and python-flint back at their defaults, as in a
-    fresh interpreter (a forked server would otherwise hand its workers whatever the caller had
-    set)."""
+def _fresh_state():
+    """What a fresh interpreter would have, in a server forked from the caller (``_fork_server``),
+    which would otherwise hand its workers whatever the caller had set: mpmath's and
+    python-flint's process-wide precisions at their defaults, and the signal handlers at
+    Python's (a handler the caller installed, e.g. one that cleans up its files on SIGTERM,
+    would run in a worker that Dask stops)."""
+    import signal
     import sys
 
     if "mpmath" in sys.modules:
         sys.modules["mpmath"].mp.prec = 53
     if "flint" in sys.modules:
         sys.modules["flint"].ctx.default()
+    for sig in signal.valid_signals():
+        handler = signal.getsignal(sig)
+        if callable(handler) and handler is not signal.default_int_handler:
+            signal.signal(sig, signal.default_int_handler if sig == signal.SIGINT else signal.SIG_DFL)
 
 
 def as_done(futures, weights=None):

@@ -79,9 +79,10 @@ import os, resource, sys, threading, types
 from cross_check import cluster
 
 def seen():
-    import os, sys
+    import os, signal, sys
     import flint, mpmath
-    return "_made_by_the_caller" in sys.modules, hash("abc"), os.getppid(), mpmath.mp.prec, flint.ctx.prec
+    return ("_made_by_the_caller" in sys.modules, hash("abc"), os.getppid(), mpmath.mp.prec, flint.ctx.prec,
+            signal.getsignal(signal.SIGTERM) == signal.SIG_DFL)
 
 def burn(seconds):
     import time
@@ -97,6 +98,8 @@ def children():
 sys.modules["_made_by_the_caller"] = types.ModuleType("_made_by_the_caller")
 import flint, mpmath
 mpmath.mp.prec, flint.ctx.prec = 200, 300         # the caller's; a fresh interpreter's are 53
+import signal
+signal.signal(signal.SIGTERM, lambda *_: None)     # the caller's; a fresh interpreter has none
 before = children()
 with cluster.client(workers=2) as c:
     forked = sorted(c.run(seen).values())
@@ -114,8 +117,8 @@ stop.set()
 def test_the_fork_server_is_a_fork_of_a_one_thread_caller_and_its_workers_cpu_still_counts():
     """``_fork_server``: in a one-thread caller on Linux the server is a fork of the caller, so
     the workers have what the caller had made (a module no file holds) and the caller's hash seed,
-    but mpmath's and python-flint's default precisions, not the caller's, and their parent is the
-    server, not the caller; a task's CPU in a worker still shows in the
+    but mpmath's and python-flint's default precisions and Python's SIGTERM handler, not the
+    caller's, and their parent is the server, not the caller; a task's CPU in a worker still shows in the
     caller's ``getrusage(RUSAGE_CHILDREN)``.  With a second thread running the server is spawned
     and the workers lack that module (the check can fail)."""
     import ast
@@ -131,7 +134,7 @@ def test_the_fork_server_is_a_fork_of_a_one_thread_caller_and_its_workers_cpu_st
     rows = ast.literal_eval(rows)
     assert len(rows) == 2 and all(has and h == int(seed) and parent != int(pid) for has, h, parent, *_ in rows), out
     assert rows[0][2] == rows[1][2]              # one server
-    assert all(row[3:] == (53, 53) for row in rows), out       # mpmath's and flint's precisions
+    assert all(row[3:] == (53, 53, True) for row in rows), out     # the precisions and SIGTERM's handler
     assert float(burnt) >= 1.0 and float(counted) >= float(burnt), out
     threaded = ast.literal_eval(next(line for line in out if line.startswith("threaded "))[len("threaded "):])
     assert [row[0] for row in threaded] == [False], out

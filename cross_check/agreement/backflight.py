@@ -192,10 +192,14 @@ def run(P: Params, t_star, x_star, v_star, s, samples, matrices=True, lost=None)
     ``matrices=False``: without the flight matrices, so without the event-state error ``(dx,
     dv)`` (NaN): what a screen by the certificate needs (samples, their Gronwall error, ``vmax``,
     the start), at ~60% of the cost (issue 33: the hard cases' float screen of the narrow
-    corner, 12 batches, 6.0 -> 4.2 CPU s under a profiler; the same cases).  ``lost(x, v,
-    err, vmax)``: after each sample, which flights a screen has refused already (from the samples
-    ``x[:j + 1]``, ``v[:j + 1]``, ``err[:j + 1]`` so far); once all are, the run stops: the rows not reached and
-    the start are NaN and ``ok`` is all False."""
+    corner, 12 batches, 6.0 -> 4.2 CPU s under a profiler; the same cases).
+
+    ``lost(x, v, err, vmax, lanes)`` (a screen, without ``matrices``): called with each sample
+    in turn (``x, v, err`` of the flights ``lanes``, indices into the batch, and their ``vmax``),
+    which of those flights the screen has refused already; those are run no further (their rows not reached and their start are NaN, their ``ok`` False), and
+    the number of substeps of a grid interval is then that of the flights still running."""
+    if lost is not None and matrices:
+        raise ValueError("backflight.run: lost (a screen's early stop) needs matrices=False")
     n = t_star.size
     D = t_star / samples
     yh, yl = x_star.astype(float).copy(), np.zeros(n)
@@ -207,6 +211,7 @@ def run(P: Params, t_star, x_star, v_star, s, samples, matrices=True, lost=None)
     M = [np.ones(n), np.zeros(n), np.zeros(n), np.ones(n)]          # backward product
     ex, ev = np.zeros(n), np.zeros(n)                                   # event-state error
     L = P.lipschitz
+    lanes, vmax_all, s = np.arange(n), vmax.copy(), np.asarray(s, float)
     for j in range(samples):
         m = _substeps(P, np.abs(dh), D, ok)
         h = D / m
@@ -234,16 +239,21 @@ def run(P: Params, t_star, x_star, v_star, s, samples, matrices=True, lost=None)
                 ex += (np.abs(M[3]) * lx + np.abs(M[1]) * lv) / det
                 ev += (np.abs(M[2]) * lx + np.abs(M[0]) * lv) / det
             err = err * np.exp(L * h) + np.maximum(lx, lv)
-        xs[j + 1], vs[j + 1], errs[j + 1] = yh, -dh, err
-        if lost is not None and lost(xs[:j + 2], vs[:j + 2], errs[:j + 2], vmax).all():
-            xs[j + 2:], vs[j + 2:], errs[j + 2:] = np.nan, np.nan, np.nan
-            nan = np.full(n, np.nan)
-            return Backward(xs, vs, errs, vmax, nan, nan, nan, nan.copy(), np.zeros(n, bool))
-    # the clock ends at th + tl ~ 0 (a few ulp of t*): the state at exactly t = 0
-    r = th + tl
-    acc = P.F * np.cos(P.k * yh) * np.cos(P.w * r) - s * P.f + P.c * dh
-    x0 = yh + (yl - dh * r)
-    v0 = -(dh + (dl - acc * r))
+        xs[j + 1, lanes], vs[j + 1, lanes], errs[j + 1, lanes] = yh, -dh, err
+        if lost is not None:
+            keep = ~lost(yh, -dh, err, vmax, lanes)
+            if not keep.all():
+                xs[j + 2:, lanes[~keep]] = vs[j + 2:, lanes[~keep]] = errs[j + 2:, lanes[~keep]] = np.nan
+                vmax_all[lanes[~keep]] = vmax[~keep]
+                lanes = lanes[keep]
+                yh, yl, dh, dl, th, tl, err, vmax, ok, D, s = (
+                    a[keep] for a in (yh, yl, dh, dl, th, tl, err, vmax, ok, D, s))
+                if not lanes.size:
+                    break
+    vmax_all[lanes] = vmax
+    if lanes.size < n:              # a screen that gave up on some flights
+        return _partial(P, n, lanes, xs, vs, errs, vmax_all, (yh, yl, dh, dl, th, tl, s), ok)
+    x0, v0 = _start(P, yh, yl, dh, dl, th, tl, s)
     if matrices:
         det = np.abs(M[0] * M[3] - M[1] * M[2])
         rx, rv = EPS * np.abs(x0), EPS * np.abs(v0)
@@ -253,3 +263,21 @@ def run(P: Params, t_star, x_star, v_star, s, samples, matrices=True, lost=None)
         ex, ev = np.full(n, np.nan), np.full(n, np.nan)
     ok &= np.isfinite(x0) & np.isfinite(v0)
     return Backward(xs, vs, errs, vmax, x0, v0, ex, ev, ok)
+
+
+def _start(P, yh, yl, dh, dl, th, tl, s):
+    """The state at exactly ``t = 0`` from the end of the backward run (the clock ends at
+    ``th + tl ~ 0``, a few ulp of ``t*``)."""
+    r = th + tl
+    acc = P.F * np.cos(P.k * yh) * np.cos(P.w * r) - s * P.f + P.c * dh
+    return yh + (yl - dh * r), -(dh + (dl - acc * r))
+
+
+def _partial(P, n, lanes, xs, vs, errs, vmax, end, ok_lanes):
+    """The ``Backward`` of a screen whose flights outside ``lanes`` were given up: their start
+    NaN and their ``ok`` False."""
+    x0, v0, ok = np.full(n, np.nan), np.full(n, np.nan), np.zeros(n, bool)
+    if lanes.size:
+        x0[lanes], v0[lanes] = _start(P, *end)
+        ok[lanes] = ok_lanes & np.isfinite(x0[lanes]) & np.isfinite(v0[lanes])
+    return Backward(xs, vs, errs, vmax, x0, v0, np.full(n, np.nan), np.full(n, np.nan), ok)
