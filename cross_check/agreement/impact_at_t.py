@@ -57,6 +57,9 @@ MAX_REFINE = 24
 #: fourth impact's time (``h`` = +1.11 on one side, -1.12 on the other: an earlier event grazes),
 #: and took all ``MAX_REFINE`` runs each (8.6 of the case's 19.7 CPU s)
 JUMP_SLOPE = 1000
+#: a refinement run goes this many times the larger ``|t_j - T|`` of the bracket's ends past
+#: ``T`` (``_impact_time``), then on to ``5T/4`` only if its impact ``j`` is not reached
+REACH = 4
 #: brackets from rest tried, nearest the middle of the gap first
 MAX_BRACKETS = 3
 #: the speeds of the other scans, in units of ``V = max(F/w, f T)`` (``speeds``), and the brackets
@@ -227,10 +230,17 @@ def _narrowed(scene, xa, xb, v0="0"):
     return xa, xb
 
 
-def _impact_time(scene, x0, j, kinds, T, v0="0"):
+def _impact_time(scene, x0, j, kinds, T, v0="0", reach=None):
     """``t_j - T`` of the reference from ``(x0, v0)`` (mpf, decimal string), its events up to
-    ``j`` of the ``kinds`` (the last an impact); ``ConstructionError`` if they changed."""
-    log = _trajectory(scene, x0, 1.25 * T, v0)
+    ``j`` of the ``kinds`` (the last an impact); ``ConstructionError`` if they changed.
+
+    ``reach``: how far past ``T`` the run goes first (the regula falsi's iterates have their
+    impact between its ends': ``REACH`` times the larger ``|t_j - T|`` of the two), where the
+    whole ``5T/4`` is run only if event ``j`` is not reached by then.  Issue 33: the runs past
+    ``T`` were ~a fifth of each refinement run."""
+    log = _trajectory(scene, x0, T + reach if reach is not None else 1.25 * T, v0)
+    if reach is not None and len(log) <= j:
+        log = _trajectory(scene, x0, 1.25 * T, v0)
     got = [e.kind for e in log][:j + 1]
     if got != kinds:
         raise ConstructionError(f"the itinerary changed inside the bracket: {got} != {kinds}")
@@ -265,7 +275,7 @@ def _refine(scene, xa, xb, T, digits, v0="0"):
     side, slope = 0, abs(hb - ha) / abs(b - a)
     for _ in range(MAX_REFINE):
         c = (a * hb - b * ha) / (hb - ha)
-        hc = _impact_time(scene, c, j, kinds, T, v0)
+        hc = _impact_time(scene, c, j, kinds, T, v0, REACH * max(abs(ha), abs(hb)))
         if abs(hc) < mpmath.mpf(10) ** -(digits + 3):
             return c, kinds, j
         if hc * ha < 0:
