@@ -13,12 +13,12 @@ position-dependent forcing); ``params``, ``state``, ``dd`` (double-double arithm
 Every function runs on every core available to the process (``default_threads()``; the
 environment variable ``VIBRO_THREADS`` or a ``threads=`` keyword overrides it).
 """
-from .api import (MAX_EVENTS, flow, jacobian, map_and_jacobian, orbit, stroboscopic_map, validate_scene,
-                  warm_up, zero_velocity)
+from .api import (MAX_EVENTS, flow, jacobian, map_and_jacobian, map_and_zero_velocity, orbit, stroboscopic_map,
+                  validate_scene, warm_up, zero_velocity)
 from .batch import default_threads
 from .eventlog import Event, EventLog, events
 from .state import KINDS
 
 __all__ = ["stroboscopic_map", "jacobian", "orbit", "zero_velocity", "events",
-           "map_and_jacobian", "flow", "Event", "EventLog", "KINDS", "MAX_EVENTS", "default_threads",
+           "map_and_jacobian", "map_and_zero_velocity", "flow", "Event", "EventLog", "KINDS", "MAX_EVENTS", "default_threads",
            "validate_scene", "warm_up"]

@@ -12,7 +12,7 @@ import reference
 from fast import api, batch, loop, ode
 from fast.params import E, params
 from reference.scene import Scene
-from tests.strategies import position_forced_scenes
+from tests.strategies import position_forced_scenes, scenes
 
 NARROW = Scene(F=1, f="0.005", omega=1, l=0, r="0.8")      # paper fig. narrow-with-friction
 TWO_PI = Scene(F=1, f="0.05", omega="2*pi", l=-1, r=1)      # paper fig. many:2pi (c)
@@ -279,3 +279,25 @@ def test_coarse_steps_err_like_their_truncation(sc, steps, seed):
     err = np.maximum(abs(Xs[ok] - X[ok]), abs(Vs[ok] - V[ok]))
     assert np.all(err <= 4 * (ode.STEPS_PER_PERIOD / steps) ** 8 * 2.0 ** -52 * cond), (err / cond).max()
     assert not (np.array_equal(Xs, X) and np.array_equal(Vs, V))
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.one_of(scenes(), position_forced_scenes()), st.integers(0, 2**16), st.sampled_from([None, 24, 64]))
+def test_map_and_zero_velocity_is_the_map_and_the_flags_of_the_jacobians_pass(scene, seed, steps):
+    """``fast.map_and_zero_velocity`` (one pass without ``Phi'``, for orbits that track
+    ``Omega_dissip``): the map and the zero-velocity flags of ``map_and_jacobian`` bit for bit, and
+    those of ``stroboscopic_map`` and ``zero_velocity``, on both engines (``steps_per_period``
+    where the scene has position forcing)."""
+    rng = np.random.default_rng(seed)
+    l, r = scene.float("l"), scene.float("r")
+    x, v = rng.uniform(l, r, 24), rng.uniform(-3, 3, 24)
+    opt = {"steps_per_period": steps} if steps is not None and scene.has("position_forcing") else {}
+    x1, v1, zv = fast.map_and_zero_velocity(scene, x, v, **opt)
+    X, V, _J, Z = fast.map_and_jacobian(scene, x, v, **opt)
+    assert np.array_equal(x1, X) and np.array_equal(v1, V) and np.array_equal(zv, Z)
+    Xs, Vs = fast.stroboscopic_map(scene, x, v, **opt)
+    assert np.array_equal(x1, Xs) and np.array_equal(v1, Vs)
+    if not opt:
+        assert np.array_equal(zv, fast.zero_velocity(scene, x, v))
+    with pytest.raises(ValueError, match="steps_per_period"):
+        fast.map_and_zero_velocity(NARROW, 0.4, 0.5, steps_per_period=1)

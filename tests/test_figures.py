@@ -144,7 +144,7 @@ CHAOTIC_START = (0.3, 0.5)
 def test_orbits_without_omega_dissip_take_the_map_alone_and_the_same_iterates(monkeypatch):
     """``run_orbits`` on a frictionless scene (no ``Omega_dissip`` to track) takes fast's map
     alone, not the map with its Jacobian (1.33 times its cost), and gets the same iterates bit
-    for bit as the one-pass map and Jacobian."""
+    for bit as the one-pass map with its zero-velocity flags (``_step``)."""
     import fast
     from reference.scene import Scene
 
@@ -152,7 +152,7 @@ def test_orbits_without_omega_dissip_take_the_map_alone_and_the_same_iterates(mo
     x0, v0 = np.array([0.05, 0.1, 0.15]), np.array([0.5, -1.0, 2.0])
     xs, vs, zv = [x0], [v0], []
     for _ in range(5):
-        x1, v1, z = por._step(sc, xs[-1], vs[-1], zero_velocity=True)      # map and Jacobian
+        x1, v1, z = por._step(sc, xs[-1], vs[-1], zero_velocity=True)      # map and flags
         xs.append(x1), vs.append(v1), zv.append(z)
     monkeypatch.setattr(fast, "map_and_jacobian", lambda *a, **k: pytest.fail("the Jacobian was computed"))
     got_x, got_v, first = por.run_orbits(sc, x0, v0, 5)

@@ -84,12 +84,19 @@ def _step(scene, x, v, zero_velocity=True, steps=None):
     ``zero_velocity=False``: the map alone, ``zero_velocity`` all False (issue 33: fast's map with
     its Jacobian costs 1.33 times the map alone under position forcing, and gives the same map bit
     for bit; a portrait of a frictionless scene, which needs no ``Omega_dissip``, 32 -> 25 CPU s).
-    ``steps``: ``fast``'s ``steps_per_period`` (position forcing; None: its default map)."""
+    With ``zero_velocity``, fast's map and zero-velocity flags in one pass without the Jacobian
+    (``fast.map_and_zero_velocity``: 81 states of a drawn scene, 60 periods at ``steps = 32``,
+    0.65 -> 0.41 CPU s, the same numbers bit for bit), else the Jacobian's pass where an engine
+    offers no such pass.  ``steps``: ``fast``'s ``steps_per_period`` (position forcing; None: its
+    default map)."""
     fe = engine()
     opt = {} if steps is None else {"steps_per_period": steps}
     if not zero_velocity:
         x1, v1 = fe.stroboscopic_map(scene, x, v, **opt)
         return np.asarray(x1, float), np.asarray(v1, float), np.zeros(np.shape(x), bool)
+    if hasattr(fe, "map_and_zero_velocity"):
+        x1, v1, zv = fe.map_and_zero_velocity(scene, x, v, **opt)
+        return np.asarray(x1, float), np.asarray(v1, float), np.asarray(zv, bool)
     if hasattr(fe, "map_and_jacobian"):
         x1, v1, _J, zv = fe.map_and_jacobian(scene, x, v, **opt)
         return np.asarray(x1, float), np.asarray(v1, float), np.asarray(zv, bool)
