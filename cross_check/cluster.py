@@ -183,7 +183,11 @@ def _fork_server(preload) -> bool:
             os.chmod(address, 0o600)
         listener.listen()
         alive_r, alive_w = os.pipe()     # the server stops when the write end closes (``_stop``)
-        pid = os.fork()
+        try:
+            pid = os.fork()
+        except OSError:                  # no process to spare: spawned as before, or refused there
+            os.close(alive_r), os.close(alive_w)
+            return False
         if pid == 0:                     # the server: it never returns here
             code = 1
             try:
