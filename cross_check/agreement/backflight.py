@@ -196,8 +196,9 @@ def run(P: Params, t_star, x_star, v_star, s, samples, matrices=True, lost=None)
 
     ``lost(x, v, err, vmax, lanes)`` (a screen, without ``matrices``): called with each sample
     in turn (``x, v, err`` of the flights ``lanes``, indices into the batch, and their ``vmax``),
-    which of those flights the screen has refused already; those are run no further (their rows not reached and their start are NaN, their ``ok`` False), and
-    the number of substeps of a grid interval is then that of the flights still running."""
+    which of those flights the screen has refused already.  Those are run no further (their
+    rows not reached and their start are NaN, their ``ok`` False), and the number of substeps
+    of a grid interval is then that of the flights still running."""
     if lost is not None and matrices:
         raise ValueError("backflight.run: lost (a screen's early stop) needs matrices=False")
     n = t_star.size
