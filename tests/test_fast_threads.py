@@ -69,6 +69,17 @@ def test_the_coarse_map_is_the_same_bits_on_any_thread_count_and_batch():
     assert all(np.array_equal(a[5:6], b, equal_nan=True) for a, b in zip(runs[0], alone))
 
 
+def test_the_map_with_its_flags_is_the_same_bits_on_any_thread_count_and_batch():
+    """``fast.map_and_zero_velocity`` keeps the batch driver's promise on both engines: the same
+    bits for every thread count and for a state alone."""
+    x, v = _states(N, seed=9)
+    for scene, opt in ((TWO_PI, {}), (FORCED, {"steps_per_period": 32}), (FORCED, {})):
+        runs = [fast.map_and_zero_velocity(scene, x, v, threads=t, **opt) for t in (1, 3)]
+        assert all(np.array_equal(a, b, equal_nan=True) for a, b in zip(*runs))
+        alone = fast.map_and_zero_velocity(scene, x[5:6], v[5:6], **opt)
+        assert all(np.array_equal(a[5:6], b, equal_nan=True) for a, b in zip(runs[0], alone))
+
+
 def test_default_is_the_affinity_mask(no_env, monkeypatch, pools):
     monkeypatch.setattr(os, "sched_getaffinity", lambda pid: set(range(16)), raising=False)
     assert fast.default_threads() == 16
@@ -104,6 +115,7 @@ ENTRY_POINTS = {
     "map_and_jacobian": lambda x, v, t: fast.map_and_jacobian(TWO_PI, x, v, threads=t),
     "orbit": lambda x, v, t: fast.orbit(TWO_PI, x, v, 2, threads=t),
     "zero_velocity": lambda x, v, t: fast.zero_velocity(TWO_PI, x, v, threads=t),
+    "map_and_zero_velocity": lambda x, v, t: fast.map_and_zero_velocity(TWO_PI, x, v, threads=t),
     "flow": lambda x, v, t: fast.flow(TWO_PI, x, v, 1.0, threads=t),
     "events": lambda x, v, t: fast.events(TWO_PI, x, v, threads=t),
 }
