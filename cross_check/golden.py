@@ -266,8 +266,8 @@ def _self_checked(sc, case, where, enc=None) -> dict:
 
 def input_proof(sc, case) -> dict:
     """The proof record of an input as ``case_entry`` made it (``prove --golden`` makes it again):
-    under position forcing the first proof guided by a ``PROVED_DPS`` run's point log
-    (``first_proof``), kept where it holds within the floor, whichever route the values took
+    under position forcing the first proof guided by a point run's log (``GUIDE_DPS`` or
+    ``PROVED_DPS`` digits: ``first_proof``), kept where it holds within the floor, whichever route the values took
     (issue 33: a dps 90 / 110 input's proof was made again unguided, 1.1 of a chatter input's
     6.6 CPU s on an unseen scene); otherwise ``golden_proof.enclosure`` alone."""
     first = first_proof(sc, case)
@@ -283,8 +283,8 @@ def _route(res) -> dict:
 def case_entry(sc, case) -> dict:
     """The golden record of one state of interest (every input of it), after the self-check
     (``GoldenError`` names the scene, the case and the input whose two runs disagree).  Under
-    position forcing an input's values may come from ``proved_values`` instead (``"dps"``: 50 in
-    its record; the proof checks every written value)."""
+    position forcing an input's values may come from ``proved_values`` instead (``_route``: its
+    record says ``"dps": 50`` or ``"guide_dps": 20``; the proof checks every written value)."""
     inputs = {"exact": case}
     if case.exact == "decimal":
         inputs["float64"] = case.rounded()

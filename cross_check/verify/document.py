@@ -20,8 +20,11 @@ isolating box), the second measure scipy.
 from __future__ import annotations
 
 from cross_check import scenes
+from cross_check.golden import CHECK_DPS, GOLDEN_DPS, GUIDE_DPS, PROVED_DPS
+from cross_check.golden_chatter import RESTART_DPS
 from cross_check.report import sections
 from cross_check.score.card import TEN_DPS
+from cross_check.tolerances import tol
 
 
 def _get(got, what):
@@ -124,9 +127,11 @@ def _hard_section(st, g):
 
 
 #: what an input's written values rest on, by the key its golden record carries (``golden.case_entry``)
-SOURCES = (("guide_dps", "from the midpoints of the input's own proof's balls, each ball within 1e-40 of its value"),
-           ("dps", "from a dps-50 run that the input's proof certifies to 1e-40"),
-           (None, "from a dps-90 run checked at dps 110"))
+_AGREE = f"{tol('golden_proved_agreement').rtol:g}"
+SOURCES = (("guide_dps", f"from the midpoints of the input's own proof's balls, each ball within {_AGREE} of its value "
+                         f"(the proof guided by a dps-{GUIDE_DPS} run)"),
+           ("dps", f"from a dps-{PROVED_DPS} run that the input's proof certifies to {_AGREE}"),
+           (None, f"from a dps-{GOLDEN_DPS} run checked at dps {CHECK_DPS}"))
 
 
 def sources(doc) -> str:
@@ -137,8 +142,8 @@ def sources(doc) -> str:
     text = "Golden values: " + "; ".join(f"{keys.count(key)} {what}" for key, what in SOURCES if key in keys)
     restarted = sum("chatter_dps" in inp for inp in inputs)
     if restarted:
-        text += (f"; the chatter times of {restarted} of them from restart pairs (dps 60 checked at 80) within "
-                 "their proofs' balls")
+        text += (f"; the chatter times of {restarted} of them from restart pairs (dps {RESTART_DPS[0]} checked at "
+                 f"{RESTART_DPS[1]}) within their proofs' balls")
     return text + "."
 
 
