@@ -29,8 +29,9 @@ exact nearly orthogonal matrix, ``R`` balls) to ``t_j + h``:
    the times of the step) and the last term the mean value theorem on the flow, ``V(tau)`` the
    enclosure of its derivative over every start of ``Y`` (step 3);
 3. *the flow derivative* of the step, ``V(tau)``, is the variational series of order
-   ``q = p/2`` over ``Y`` plus its Lagrange remainder ``G_{q+1}(B) W tau^(q+1)``: ``G_{q+1}``
-   the variational coefficient with identity start (``V^{(q+1)} = (q+1)! G_{q+1}(y) V``), ``W``
+   ``q = p/2`` over ``Y`` (from the centre's ``sin(k x)`` series and its gradient over ``B``:
+   ``series.Field.variational_near``) plus its Lagrange remainder ``G_{q+1}(B) W tau^(q+1)``:
+   ``G_{q+1}`` the variational coefficient with identity start (``V^{(q+1)} = (q+1)! G_{q+1}(y) V``), ``W``
    the box ``|V - I|_inf <= exp(L h) - 1`` (Gronwall on ``B``, ``L = max(1, |A_x| + c)``).  Half
    the order carries ``Phi'`` to about half the working precision (~1e-48 at 320 bits: the
    Krawczyk proofs need less) at a quarter of the cost.  ``full_derivative`` takes ``q = p``
@@ -260,7 +261,7 @@ class ValidatedFlight:
         p, fl = self.p, self.field
         t = self.base + sigma
         Y = [(mid[i] + A[i][0] * R[0] + A[i][1] * R[1]).union(mid[i]) for i in range(2)]
-        xs, _ = fl.series(t, mid[0], mid[1], p + 1)
+        xs, _, S, P = fl.trig_series(t, mid[0], mid[1], p + 1)
         tol = self._tol(mid)
         guess = self._guess(xs, tol)
         h = self._dyadic(guess * self._shrink)
@@ -273,7 +274,7 @@ class ValidatedFlight:
             raise Unproved(f"flight from t = {self.t0.mid().str(15)}: no Taylor step at "
                            f"t = {t.mid().str(15)} (no a priori enclosure with a small "
                            f"remainder: the box is too wide)")
-        _, cols = fl.series(t, Y[0], Y[1], self.q + 1, self.q)
+        cols = fl.variational_near(S, P, rem[2], [Y[i] - mid[i] for i in range(2)], self.q)
         J = [[arb_poly(cols[0]), arb_poly(cols[2])], [arb_poly(cols[1]), arb_poly(cols[3])]]
         step = _Step(sigma=sigma, end=sigma + h, h=h, t=t, cx=arb_poly(xs[:p + 1]),
                      cv=arb_poly([(n + 1) * xs[n + 1] for n in range(p + 1)]), J=J,
@@ -287,9 +288,11 @@ class ValidatedFlight:
         self._state = self._next(step)
 
     def _remainder(self, t, Y, h, tol):
-        """``((rx, rv), E)``: the Lagrange remainders' coefficients over the a priori box of
+        """``((rx, rv), E, dS)``: the Lagrange remainders' coefficients over the a priori box of
         the step ``[t, t + h]`` from ``Y``, if that box exists, ``|rem| h^(p+1) <= tol`` and
-        ``|E| h^(q+1) <= sqrt(tol)``; else the factor (a ball below 1) by which to shorten the
+        ``|E| h^(q+1) <= sqrt(tol)``, and the gradient of ``sin(k x)``'s coefficients over that
+        box (``series.Field.sin_gradient``, orders below ``q``: the step's columns over ``Y``);
+        else the factor (a ball below 1) by which to shorten the
         step: 1/2 without a box, ``(tol / 2|rem|)^(1/(p+1))`` (at most 0.9) otherwise."""
         p, q, fl = self.p, self.q, self.field
         hball = _interval(h)
@@ -298,7 +301,8 @@ class ValidatedFlight:
             B = picard_box(fl, span, Y, hball)
             if B is None:
                 return arb(0.5)
-            bx, cols = fl.series(span, B[0], B[1], p + 2, q + 1)
+            bx, C, S, P = fl.trig_series(span, B[0], B[1], p + 2, q + 1)
+            cols = fl.variational(S, P, q + 1)
             rx, rv = bx[p + 1], (p + 2) * bx[p + 2]
             e = ((fl.lipschitz(span, B[0]) * h).exp() - 1).upper()
             E = mat_mul([[cols[0][q + 1], cols[2][q + 1]], [cols[1][q + 1], cols[3][q + 1]]],
@@ -311,7 +315,8 @@ class ValidatedFlight:
                    for worst, bound, n in shorten if not worst <= bound]
         if factors:
             return min([arb(0.9)] + factors)
-        return (rx, rv), E
+        with workprec(min(ctx.prec, REMAINDER_PREC)):
+            return (rx, rv), E, fl.sin_gradient(C, cols, q)
 
     def _next(self, step):
         """The set, frame and flow derivative at the end of ``step`` (the Lohner QR step)."""
