@@ -184,3 +184,24 @@ def test_report_iterates_the_claims_registry():
 
     lines = sections.claims_section(True, lambda msg: None, claims={k: CLAIMS[k] for k in ("lift",)})
     assert len(lines) == 3 and lines[2].startswith("| lift | erratum |")
+
+
+def test_the_claims_worker_runs_the_scipy_itineraries_after_the_claims_on_a_users_scene():
+    """The untimed solve_ivp itineraries run in the claims worker (``build._scipy_timed``), the
+    user's scenes registered there first: the same table as in line; with no pool, nothing is
+    submitted (the report then runs them in line)."""
+    import importlib
+
+    from cross_check import scenefile, scenes
+
+    build = importlib.import_module("cross_check.report.build")
+    found = scenefile.collect([], ["F=1 f=0.3 omega=1.3 l=-0.5 r=0.7"])
+    name = scenefile.register_all(found)[0]
+    pool, future = build._claims_process(True, [].append, {})
+    with pool:
+        future.result(timeout=120)
+        worker = build._submitted(pool, build._scipy_timed, (name,), 2, None, [scenes.scene(name)])
+        lines, seconds = worker.result(timeout=300)
+    assert lines == build.sections.scipy_itineraries((name,), 2, None) and seconds > 0
+    assert len(lines) == 6 and all(f"| {m} rtol" in "".join(lines) for m in ("RK45", "DOP853"))
+    assert build._submitted(None, build._scipy_timed, (name,), 2, None) is None

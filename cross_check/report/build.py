@@ -14,8 +14,8 @@ section (``sections``, ``precision``, ``plots``):
    one-ulp floor;
 4. where solve_ivp misses events;
 5. the paper's claims, one registered claim at a time (``cross_check.paper.claims.CLAIMS``), in
-   one worker process beside sections 1-2 and the untimed part of 3 (collected before the timed
-   part of 3, whose timings want both cores);
+   one worker process beside sections 1-2 and the untimed part of 3, followed there by section 4
+   (both collected before the timed part of 3, whose timings want both cores);
 6. where the claims hold: the atlas's maps (``python -m cross_check atlas``) when one exists;
 7. the league's table (``python -m cross_check league``) when one exists, read from disk
    (``league_link``: the report runs no peer);
@@ -118,17 +118,40 @@ def _claims_process(quick: bool, progress, claims=None):
         return None, None
 
 
+def _scipy_timed(hard_scenes, n_sample, progress, users=()) -> tuple[list, float]:
+    """The solve_ivp itinerary table (``sections.scipy_itineraries``: nothing in it is timed) and
+    its wall seconds; the claims worker runs it after the claims, with the user's scenes among
+    ``hard_scenes`` registered there first (``users``: their ``Scene`` objects)."""
+    t0 = time.perf_counter()
+    for sc in users:
+        scenes.register(sc)
+    return sections.scipy_itineraries(hard_scenes, n_sample, progress), time.perf_counter() - t0
+
+
+def _submitted(pool, fn, *args):
+    """``pool.submit(fn, *args)``, or ``None`` where the pool cannot take it (the work then runs
+    in line)."""
+    try:
+        return pool.submit(fn, *args) if pool is not None else None
+    except RuntimeError:
+        return None
+
+
 def _measure(plan: Plan, out: pathlib.Path, claims: bool, quick: bool, progress,
              atlas_dir="atlas", league_dir="league") -> tuple[dict, dict, list]:
     """Run every section; return ``(markdown pieces, timings, errors)``.
 
-    The schedule for two cores: the claims run in a worker process (which first compiles
-    fast's position-forcing flights) beside the main process (which first compiles the
-    closed-form loop, then runs the agreement, the hard cases and the untimed reference work
-    of work-precision); both are collected before the timed part of work-precision, whose
-    timings must have the machine to themselves."""
+    The schedule for two cores: the claims, then the solve_ivp itineraries (untimed), run in a
+    worker process (which first compiles fast's position-forcing flights) beside the main
+    process (which first compiles the closed-form loop, then runs the agreement, the hard cases
+    and the untimed reference work of work-precision); both are collected before the timed part
+    of work-precision, whose timings must have the machine to themselves.  (The itineraries
+    took 5.7 s after the timed part in the main process, while the worker sat idle: a cold
+    first run in a fresh clone, 90.6 s of wall time.)"""
     timings, errors, parts = {}, [], {}
     pool, claims_future = _claims_process(quick, progress) if claims else (None, None)
+    users = [scenes.scene(n) for n in plan.hard_scenes if n not in scenes.SCENES]
+    scipy_future = _submitted(pool, _scipy_timed, plan.hard_scenes, plan.n_sample, progress, users)
     timings["starting the claims worker"] = progress.lap()
     _guarded(progress, errors, "compiling fast", _compile, progress, "main process", True, False)
     timings["fast's closed-form loop: compiled, or loaded from the cache"] = progress.lap()
@@ -153,9 +176,12 @@ def _measure(plan: Plan, out: pathlib.Path, claims: bool, quick: bool, progress,
         else:
             with pool:
                 got = _guarded(progress, errors, "claims", claims_future.result)
+                scipy = scipy_future and _guarded(progress, errors, "scipy itineraries", scipy_future.result)
         if got is not None:
             parts["claims"], timings["claims (in parallel, worker process)"], compiled = got
             timings["of which fast's position-forcing flights: compiled, or loaded"] = compiled
+        if scipy_future is not None:
+            parts["scipy"], timings["scipy itineraries (worker process, after the claims)"] = scipy or ([], 0.0)
         timings["waiting for the claims"] = progress.lap()
     wp = None if prepared is None else _guarded(progress, errors, "work-precision", precision.work_precision,
                                                 plan, progress, prepared)
@@ -163,9 +189,10 @@ def _measure(plan: Plan, out: pathlib.Path, claims: bool, quick: bool, progress,
         plots.work_precision_plot(wp, out / "work_precision.png", TRUTH_DPS)
     parts["wp"] = precision.wp_table(wp) if wp is not None else ["(failed: see Failures)", ""]
     timings["work-precision: timed runs"] = progress.lap()
-    parts["scipy"] = _guarded(progress, errors, "scipy itineraries", sections.scipy_itineraries,
-                              plan.hard_scenes, plan.n_sample, progress) or []
-    timings["scipy itineraries"] = progress.lap()
+    if "scipy" not in parts:
+        parts["scipy"] = _guarded(progress, errors, "scipy itineraries", sections.scipy_itineraries,
+                                  plan.hard_scenes, plan.n_sample, progress) or []
+        timings["scipy itineraries"] = progress.lap()
     errors += [f"claim {line.split('|')[1].strip()}: FAILED" for line in parts["claims"] if "| FAILED |" in line]
     parts["atlas"] = sections.atlas_section(atlas_dir, out)
     parts["league"] = league_section(league_dir, out)
