@@ -507,6 +507,14 @@ TOLERANCES.update({
             "a period in the Lohner QR frame grow the box by about |Phi'| <= ~10, so ~1e-57 is "
             "expected: 1e-30 leaves 27 decades, and a lost remainder or a wrapping blow-up "
             "(an axis box over a period) would not be caught by it, only by containment"),
+    "near_columns_width_factor": Tol(
+        rtol=2.0, atol=0.0,
+        why="issue 33 (tests/test_series_near.py): the flow derivative's columns over a box, "
+            "from the centre's sin(kx) series and its gradient over a box 4 times as wide "
+            "(series.Field.variational_near), are at most this factor as wide as the box's own "
+            "recurrence's, plus the working precision. The first-order widths are the same "
+            "gradient times the same box; the wider box raises only the second-order part. "
+            "Worst ratio measured on 150 random cases (every effect, boxes 2^-40 to 2^-8): 1.14"),
 })
 
 # --- issue 33: fast under position forcing (tests/test_ode_accuracy.py) ----------------------

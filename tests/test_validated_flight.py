@@ -149,6 +149,33 @@ def test_a_low_order_flight_carries_its_remainder():
     assert 1e-20 < float(X.rad()) < 1e-8 and 1e-20 < float(D[0][0].rad()) < 1e-4   # D: order 4
 
 
+def test_a_step_too_long_for_its_remainder_is_shortened_on_the_same_box():
+    """A first step twice the guess is too long for the state's remainder bound; ``_remainder``
+    shortens it on the coefficients over the longer step's Picard box (no second series) to a
+    step that meets every bound, ``shortened``; the flight over the shortened steps still holds
+    the point reference.  Kept at the long step, the bound fails: the check has something to
+    check."""
+    with workprec(200):
+        m = BallModel(OTHER)
+        fl = ValidatedFlight(m, arb(0), from_number("0.1"), from_number("0.8"), 1)
+        mid = [fl.x0.mid(), fl.v0.mid()]
+        xs, _, _, _ = fl.field.trig_series(arb(0), mid[0], mid[1], fl.p + 1)
+        tol = fl._tol(mid)
+        long = fl._dyadic(2 * fl._guess(xs, tol))
+        got = fl._remainder(arb(0), [fl.x0, fl.v0], long, tol)
+        h, ((rx, rv), E, _), shortened = got
+        assert shortened and h < long
+        assert all(abs(c).upper() * h ** (fl.p + 1) <= tol for c in (rx, rv))
+        assert not all(abs(c).upper() * long ** (fl.p + 1) <= tol for c in (rx, rv))
+        assert max(abs(b).upper() for row in E for b in row) * h ** (fl.q + 1) <= tol.sqrt()
+        fl._shrink = 2.0                     # the first step starts at twice its guess
+        u = m.T * from_number("0.37")
+        X, V = fl.state(u)
+    (xr, vr), _ = _point(OTHER, 0, "0.1", "0.8", 1, "0.37", 60, periods=True)
+    with workprec(200):
+        assert inside(X, xr) and inside(V, vr), (X, xr, V, vr)
+
+
 def test_a_picard_box_that_does_not_contract_is_refused():
     """``Y + [0, h] f(B)`` inside ``B`` is checked, not assumed: a box too small for the step
     is refused by ``contracts``; with strong damping (``v' ~ -c v``, ``c h = 5``) no widening
