@@ -37,8 +37,10 @@ def _gradient_over(field, t, box, order):
 
 
 def _points(centre, r, rng, n=3):
-    """Exact dyadic starts inside the box of half-width ``r`` about ``centre``."""
-    return [[c + r * (rng.randrange(-1024, 1025) / 1024) for c in centre] for _ in range(n)]
+    """Dyadic starts inside the box of half-width ``r`` about ``centre`` (at most
+    ``1023/1024 r`` away: the float sum's rounding, below ``2^-52 |c|``, cannot carry them out
+    for ``r >= 2^-40``)."""
+    return [[c + r * (rng.randrange(-1023, 1024) / 1024) for c in centre] for _ in range(n)]
 
 
 @st.composite
@@ -107,28 +109,31 @@ def test_the_columns_near_the_centre_hold_every_start_of_the_box(case):
 @pytest.mark.parametrize("wrong", ["half the gradient", "no gradient", "the other column"])
 def test_a_wrong_gradient_leaves_a_start_of_the_box_outside(wrong):
     """The same check refuses a gradient halved, a zero gradient (the centre's columns alone) and
-    the gradient's two columns swapped: some corner of a box 2e-3 by 3e-5 falls outside."""
+    the gradient's two columns swapped: some corner of a box ``2^-10`` by ``2^-16`` falls
+    outside, where the right gradient holds all four (exact corners: dyadic centre and radii)."""
     from reference.scene import Scene
 
     scene = Scene(F=2, f="0.3", omega="1.2", l=-1, r=1, damping="0.05", wavenumber="0.7")
-    centre, radii, t = (0.25, 0.8), (1e-3, 1e-3 / 64), arb("0.4")
+    centre, radii, t = (0.25, 0.8), (2.0 ** -10, 2.0 ** -16), arb("0.4")
     with workprec(PREC):
         fl = _field(scene, 1)
         box = [arb(c, r) for c, r in zip(centre, radii)]
-        dS = _gradient_over(fl, t, box, ORDER)
-        dS = {"half the gradient": [[g / 2 for g in col] for col in dS],
-              "no gradient": [[arb(0)] * ORDER] * 2,
-              "the other column": [dS[1], dS[0]]}[wrong]
+        right = _gradient_over(fl, t, box, ORDER)
         m = [arb(c) for c in centre]
         _, _, S, P = fl.trig_series(t, m[0], m[1], ORDER + 1)
-        near = fl.variational_near(S, P, dS, [box[i] - m[i] for i in range(2)], ORDER)
-        outside = 0
-        for sx in (-1, 1):
-            for sv in (-1, 1):
-                z = (arb(centre[0] + sx * radii[0]), arb(centre[1] + sv * radii[1]))
-                _, point = fl.series(t, z[0], z[1], ORDER + 1, ORDER)
-                outside += not all(_overlaps_all(a, b) for a, b in zip(near, point))
-        assert outside, wrong
+        corners = [(arb(centre[0] + sx * radii[0]), arb(centre[1] + sv * radii[1]))
+                   for sx in (-1, 1) for sv in (-1, 1)]
+        points = [fl.series(t, z[0], z[1], ORDER + 1, ORDER)[1] for z in corners]
+
+        def outside(dS):
+            near = fl.variational_near(S, P, dS, [box[i] - m[i] for i in range(2)], ORDER)
+            return sum(not all(_overlaps_all(a, b) for a, b in zip(near, pt)) for pt in points)
+
+        assert outside(right) == 0
+        dS = {"half the gradient": [[g / 2 for g in col] for col in right],
+              "no gradient": [[arb(0)] * ORDER] * 2,
+              "the other column": [right[1], right[0]]}[wrong]
+        assert outside(dS), wrong
 
 
 def test_sin_gradient_and_variational_near_check_their_orders():
