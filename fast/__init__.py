@@ -19,6 +19,6 @@ from .batch import default_threads
 from .eventlog import Event, EventLog, events
 from .state import KINDS
 
-__all__ = ["stroboscopic_map", "jacobian", "orbit", "zero_velocity", "events",
-           "map_and_jacobian", "map_and_zero_velocity", "flow", "Event", "EventLog", "KINDS", "MAX_EVENTS", "default_threads",
+__all__ = ["stroboscopic_map", "jacobian", "orbit", "zero_velocity", "events", "map_and_jacobian",
+           "map_and_zero_velocity", "flow", "Event", "EventLog", "KINDS", "MAX_EVENTS", "default_threads",
            "validate_scene", "warm_up"]

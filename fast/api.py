@@ -209,10 +209,8 @@ def jacobian(scene, x, v, *, max_events=MAX_EVENTS, threads=None):
 def zero_velocity(scene, x, v, *, max_events=MAX_EVENTS, threads=None):
     """Whether the motion over ``[0, T]`` reaches zero velocity (turn, stick, contact,
     chatter; with ``f = 0`` a smooth velocity reversal counts too): the paper's
-    ``Omega_dissip``; the rest is ``Omega_pres``."""
-    engine, P, x, v, max_events, threads = _setup(scene, x, v, max_events, threads)
-    res = _run(engine, P, x, v, *_period(engine, P), max_events, threads)
-    return res.zero_velocity.reshape(x.shape)
+    ``Omega_dissip``; the rest is ``Omega_pres`` (``map_and_zero_velocity``'s pass)."""
+    return map_and_zero_velocity(scene, x, v, max_events=max_events, threads=threads)[2]
 
 
 def check_t_end(t_end):

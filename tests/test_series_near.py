@@ -32,7 +32,7 @@ def _box(centre, r):
 
 def _gradient_over(field, t, box, order):
     """``sin_gradient`` over ``box`` at the time ``t``, from the box's own series."""
-    _, C, S, P = field.trig_series(t, box[0], box[1], order + 2, order)
+    _, C, S, P = field.trig_series(t, box[0], box[1], order + 2)
     return field.sin_gradient(C, field.variational(S, P, order + 1), order)
 
 

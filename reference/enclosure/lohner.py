@@ -311,7 +311,7 @@ class ValidatedFlight:
             B = picard_box(fl, span, Y, hball)
             if B is None:
                 return arb(0.5)
-            bx, C, S, P = fl.trig_series(span, B[0], B[1], p + 2, q + 1)
+            bx, C, S, P = fl.trig_series(span, B[0], B[1], p + 2)
             cols = fl.variational(S, P, q + 1)
             rx, rv = bx[p + 1], (p + 2) * bx[p + 2]
             e = ((fl.lipschitz(span, B[0]) * h).exp() - 1).upper()

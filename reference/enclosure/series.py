@@ -157,16 +157,18 @@ class Field:
         """``(xs, cols)``: ``xs = [x_0 .. x_order]`` of the flight through ``(t, x, v)`` and,
         if ``variational >= 0``, the columns ``(dx1, dv1, dx2, dv2)`` of the flow derivative,
         each ``[V_0 .. V_variational]`` (``variational <= order - 1``)."""
-        xs, _, S, P = self.trig_series(t, x, v, order, variational)
-        return xs, (None if variational < 0 else self.variational(S, P, variational))
-
-    def trig_series(self, t, x, v, order: int, variational: int = -1):
-        """``(xs, C, S, P)``: ``xs`` as :meth:`series`, and the coefficients ``C_0 .. C_{order-2}``,
-        ``S_0 .. S_{order-2}`` of ``cos(k x)``, ``sin(k x)`` and ``P_0 .. P_{order-2}`` of
-        ``cos(w (t + tau))`` along it (``variational`` only checked: ``<= order - 1``)."""
         if order < 2 or variational > order - 1:
             raise ValueError(f"series: need order >= 2 and variational <= order - 1, got "
                              f"{order}, {variational}")
+        xs, _, S, P = self.trig_series(t, x, v, order)
+        return xs, (None if variational < 0 else self.variational(S, P, variational))
+
+    def trig_series(self, t, x, v, order: int):
+        """``(xs, C, S, P)``: ``xs`` as :meth:`series`, and the coefficients ``C_0 .. C_{order-2}``,
+        ``S_0 .. S_{order-2}`` of ``cos(k x)``, ``sin(k x)`` and ``P_0 .. P_{order-2}`` of
+        ``cos(w (t + tau))`` along it (so :meth:`variational` of them reaches ``order - 1``)."""
+        if order < 2:
+            raise ValueError(f"trig_series: need order >= 2, got {order}")
         F, k, c, sf = self.F, self.k, self.c, self.sf
         xs = [x, v] + [arb(0)] * (order - 1)
         ju = [acb(0), acb(k * v)]                    # j u_j, u = k x (real; complex for the dot)
