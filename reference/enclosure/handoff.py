@@ -38,6 +38,11 @@ Lagrange remainder over a Picard box.  The parallelogram is re-framed as a Lohne
 (``lohner.reframe``) and starts the next flight at the exact ``base``: the next
 event's time is ``base + sigma`` (no ``rad T`` added), and the speed's cancellation survives.
 
+The start the flights track (``lohner.ValidatedFlight.point_state``), with offsets ``Rp`` in
+``R``, goes through by the same form: ``z_b(Rp) in z_b(r0) + G (Rp - r0)``.  At a stop, which no
+flight follows at once, its own zero of ``v`` is located by the same interval Newton on its own
+offsets (:meth:`Handoff.tracked_stop`), the start of its own rest (``walk.Walk._track_rest``).
+
 Every enclosure is a ball statement for every start of the set, so the hand-off is sound for a
 parameter box as well.  It is used only where its area is no more than the old hand-off's box's
 (:func:`smaller`); an event whose ball ``tau`` straddles two Taylor steps keeps the box.
@@ -64,16 +69,19 @@ class Handoff:
 
     def __init__(self, flight, fn, u, kind, side, T):
         self.flight, self.fn, self.kind, self.side, self.T, self.u = flight, fn, kind, side, T, u
-        pieces = flight._pieces(u) if kind in ("impact", "turn") else []
+        pieces = flight._pieces(u) if kind in ("impact", "turn", "stick") else []
         self.ok = len(pieces) == 1
         if self.ok:
             self.step, self.tau = pieces[0]
 
     def start(self, post, base, D, box):
-        """``(mid, A, R)``: the next flight's set at ``base`` (``post``: its ``Field``; ``D``:
-        the derivative of its flow over ``[base, T]``), or None where no hand-off applies or
-        where the old hand-off's box ``box`` at ``base`` is smaller (:func:`smaller`)."""
-        if not self.ok:
+        """``(mid, A, R, Rp)``: the next flight's set at ``base`` (``post``: its ``Field``;
+        ``D``: the derivative of its flow over ``[base, T]``) and the offsets ``Rp`` of the start
+        the flight tracks (``lohner.ValidatedFlight.point_state``; ``None`` if none): ``z_b(r) in
+        z_b(r0) + G (r - r0)`` for every ``r`` of ``R``, the tracked one among them.  None where
+        no hand-off applies or where the old hand-off's box ``box`` at ``base`` is smaller
+        (:func:`smaller`)."""
+        if not self.ok or self.kind == "stick":
             return None
         fl, st, j = self.flight, self.step, self.fn.offset
         R = st.R
@@ -88,7 +96,8 @@ class Handoff:
         c = self._centre(post, base, r0)
         if c is None:
             return None
-        carried = reframe(c, G, [R[k] - r0[k] for k in range(2)])
+        Rp = None if st.Rp is None else [st.Rp[k] - r0[k] for k in range(2)]
+        carried = reframe(c, G, [R[k] - r0[k] for k in range(2)], Rp)
         return carried if smaller(carried, box) else None
 
     def _jump(self, z):
@@ -104,14 +113,24 @@ class Handoff:
         return [[one, zero], [zero, zero]]
 
     def _centre(self, post, base, r0):
-        """``z_b(r0)``: the centre's event (interval Newton on ``g`` along its polynomial),
-        its jump, and the next flight's series back to ``base``; None if Newton does not
-        contract inside ``tau``."""
+        """``z_b(r0)``: the centre's event (:meth:`_located`), its jump, and the next flight's
+        series back to ``base``; None if Newton does not contract inside ``tau``."""
+        got = self._located(r0)
+        if got is None:
+            return None
+        t_star, before = got
+        return _back(post, t_star, self._jump(before), base)
+
+    def _located(self, r):
+        """``(t*, z(t*))``, the event of the starts with offsets ``r`` in the step's frame
+        (exact: the centre ``r0``; balls: the tracked start's ``Rp``, each of whose starts has
+        its own zero in the ball): interval Newton on ``g`` along ``centre + M r``, whose slope
+        over ``tau`` and the whole set has no zero; None if it does not contract inside ``tau``."""
         fl, st, j, fn = self.flight, self.step, self.fn.offset, self.fn
 
         def state(tau):
             centre, M, _ = fl._at(st, tau)
-            return [centre[i] + M[i][0] * r0[0] + M[i][1] * r0[1] for i in range(2)]
+            return [centre[i] + M[i][0] * r[0] + M[i][1] * r[1] for i in range(2)]
 
         tau = self.tau
         slope = fn.coef * fl.field.stack(st.t + tau, *state(tau))[j + 1]
@@ -124,10 +143,15 @@ class Handoff:
             if not step.overlaps(tau):
                 return None
             tau = step.intersection(tau)
-        before = state(tau)
-        after = self._jump(before)
-        t_star = fl.base + st.sigma + tau
-        return _back(post, t_star, after, base)
+        return fl.base + st.sigma + tau, state(tau)
+
+    def tracked_stop(self):
+        """``(t*, x*)`` of the tracked start's stop (a ``"stick"``: ``v = 0`` there), or None
+        (no tracked start, or its zero not located): the start of its rest."""
+        if not (self.ok and self.kind == "stick") or self.step.Rp is None:
+            return None
+        got = self._located(self.step.Rp)
+        return None if got is None else (got[0], got[1][0])
 
 
 def gradient(M, j, DJ, pre, post):
@@ -161,10 +185,10 @@ def _back(post, t, z, base):
 
 
 def smaller(carried, box):
-    """True if the parallelogram ``carried = (mid, A, R)`` (``A`` a rotation up to rounding)
+    """True if the parallelogram ``carried = (mid, A, R, ...)`` (``A`` a rotation up to rounding)
     has no more area than the axis box ``box``.  Its hull may be wider than the box where the
     set is a thin slanted strip, which is the point: the area is what the next flight's Lohner
     steps carry."""
-    _, A, R = carried
+    A, R = carried[1], carried[2]
     det = abs(A[0][0] * A[1][1] - A[0][1] * A[1][0])
     return not (det * R[0].rad() * R[1].rad()).lower() > (box[0].rad() * box[1].rad()).upper()

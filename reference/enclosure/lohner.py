@@ -63,6 +63,13 @@ dependence on the start that the box loses (~4x an event).  Its local times then
 ``base`` (``start``; ``lead = 0``): the next event's time is ``base + sigma``, no ``rad t0``
 added; the flight factor of Table 1 still counts from ``t0`` (``delta``).
 
+One start of the box -- its centre, for an orbit proof's Krawczyk test -- may be *tracked*
+(``point``): its offsets ``Rp`` in each step's frame follow the set's own recurrence
+``Rp <- (A^-1 M) Rp + A^-1 (c(h) + rem - m)``, so ``point_state`` encloses that start's motion
+as narrowly as a walk from it alone, from the box's one walk (the doubleton sets of CAPD,
+Zgliczynski 2002, for a single start).  It is handed through impacts and turns with the set
+(``reference.enclosure.handoff``), and through its own stops and slips by the walk.
+
 ``stack(u)`` is the derivative stack ``[x, v, a, a', a'']`` of ``reference.enclosure.motion``
 (``a``, ``a'``, ``a''`` from the equation of motion at the enclosed state), so that
 ``reference.enclosure.certify`` excludes and locates events on a validated flight as on a
@@ -157,7 +164,7 @@ class _Step:
     polynomials, the variational polynomials over the hull, the remainders, the frame at
     its start ``(A, R)`` and the flow derivative ``D`` at its start."""
 
-    __slots__ = ("sigma", "end", "h", "t", "cx", "cv", "J", "rem", "E", "A", "R", "D")
+    __slots__ = ("sigma", "end", "h", "t", "cx", "cv", "J", "rem", "E", "A", "R", "D", "Rp")
 
     def __init__(self, **kw):
         for k, val in kw.items():
@@ -168,7 +175,7 @@ class ValidatedFlight:
     """The flight with sign ``s`` from the balls ``(t0, x0, v0)`` (module docstring)."""
 
     def __init__(self, model, t0, x0, v0, s: int, *, order=None, tol_bits=None,
-                 max_steps=MAX_STEPS, full_derivative=False, carried=None):
+                 max_steps=MAX_STEPS, full_derivative=False, carried=None, point=None):
         if not model.position_forcing:
             raise ValueError("ValidatedFlight: needs a scene with position forcing (wavenumber)")
         if s not in (1, -1, 0) or (s == 0 and model.friction):
@@ -197,11 +204,13 @@ class ValidatedFlight:
         handed = start is not None
         if start is None:
             mid = [x.mid(), v.mid()]
-            start = (mid, [[one, zero], [zero, one]], [x - mid[0], v - mid[1]])
+            tracked = None if point is None else self._point_shift(point)
+            start = (mid, [[one, zero], [zero, one]], [x - mid[0], v - mid[1]],
+                     None if tracked is None else [tracked[i] - mid[i] for i in range(2)])
         #: the time the walk's local times count from: the exact ``base`` for a set handed
         #: through an event (``reference.enclosure.handoff``), else the start ball ``t0``
         self.start, self.lead = (self.base, arb(0)) if handed else (t0, self.delta)
-        self._state = (arb(0),) + start + ([[one, zero], [zero, one]],)
+        self._state = (arb(0),) + start[:3] + ([[one, zero], [zero, one]], start[3])
         self.steps, self._starts = [], []
         self._cap = self._step_cap()
         self._shrink = SHRINK
@@ -219,8 +228,32 @@ class ValidatedFlight:
         if N is None:
             raise Unproved(f"flight from t = {self.t0.mid().str(15)}: no a priori enclosure "
                            f"over the start time's ball")
+        self._span_box = (span, N)
         e = ((self.field.lipschitz(span, N[0]) * d).exp() - 1).upper()
         return N[0], N[1], _near_identity(e)
+
+    def _point_shift(self, point):
+        """The state at ``base`` of the solution through ``point = (t, x, v)`` (one start of the
+        box at its own time ``t``, a ball: its true time lies in ``t0`` too), by Taylor's
+        theorem on each coordinate with ``d = t - base``:
+
+            z(base) in z - d z'(t, z) + d^2 / 2 z''(N),
+
+        ``z' = (v, a)`` at the point, ``z'' = (a, a')`` over ``N``, the enclosure of every
+        solution from the box over ``[base, t0]`` (``_shift``'s Picard box).  (The first-order
+        form ``z - d z'(N)`` is ``|d| rad z'(N)`` wide: the square of the box's width after a
+        stop, whose slip times spread over the box; this one leaves its cube.)  ``(x, v)``
+        itself at an exact ``t0``; None if ``t`` misses ``t0``."""
+        t, x, v = point
+        if self.delta.is_zero():
+            return [x, v]
+        span, N = self._span_box
+        if not t.overlaps(span):
+            return None
+        d = (t - self.base).intersection(_interval(self.delta.upper()))
+        slope = self.field.stack(t, x, v)[1:3]
+        curve = self.field.stack(span, N[0], N[1])[2:4]
+        return [z - d * s + d * d / 2 * c for z, s, c in zip((x, v), slope, curve)]
 
     def _step_cap(self):
         """The natural time scale of the flight: ``1 / (w + k (|v0| + 1) + sqrt(F (k+1) + f)
@@ -257,7 +290,7 @@ class ValidatedFlight:
         if len(self.steps) >= self.max_steps:
             raise Unproved(f"flight from t = {self.t0.mid().str(15)}: more than "
                            f"{self.max_steps} Taylor steps (the step budget)")
-        sigma, mid, A, R, D = self._state
+        sigma, mid, A, R, D, Rp = self._state
         p, fl = self.p, self.field
         t = self.base + sigma
         Y = [(mid[i] + A[i][0] * R[0] + A[i][1] * R[1]).union(mid[i]) for i in range(2)]
@@ -279,7 +312,7 @@ class ValidatedFlight:
         J = [[arb_poly(cols[0]), arb_poly(cols[2])], [arb_poly(cols[1]), arb_poly(cols[3])]]
         step = _Step(sigma=sigma, end=sigma + h, h=h, t=t, cx=arb_poly(xs[:p + 1]),
                      cv=arb_poly([(n + 1) * xs[n + 1] for n in range(p + 1)]), J=J,
-                     rem=rem[0], E=rem[1], A=A, R=R, D=D)
+                     rem=rem[0], E=rem[1], A=A, R=R, D=D, Rp=Rp)
         if not step.end.is_exact():
             raise Unproved("validated flight: a step time is not exact at this precision")
         self.steps.append(step)
@@ -332,9 +365,11 @@ class ValidatedFlight:
             return h, ((rx, rv), E, fl.sin_gradient(C, cols, q)), shortened > 0
 
     def _next(self, step):
-        """The set, frame and flow derivative at the end of ``step`` (the Lohner QR step)."""
+        """The set, frame, flow derivative and tracked point at the end of ``step`` (the Lohner
+        QR step)."""
         centre, M, V = self._at(step, step.h)
-        return (step.end,) + reframe(centre, M, step.R) + (mat_mul(V, step.D),)
+        mid, A, R, Rp = reframe(centre, M, step.R, step.Rp)
+        return step.end, mid, A, R, mat_mul(V, step.D), Rp
 
     @staticmethod
     def _frame(M, R):
@@ -402,6 +437,25 @@ class ValidatedFlight:
             out = s if out is None else [a.union(b) for a, b in zip(out, s)]
         return out
 
+    def point_state(self, t):
+        """``(x, v)`` at the absolute time ``t`` of the one start the flight tracks (``point``,
+        or handed through its events: ``reference.enclosure.handoff``), ``None`` if it tracks
+        none.  (Its time from ``base`` is ``t - base``, not the set's ``u + lead``: a start
+        ball ``t0`` enters the set's local times twice, which widens them by ``rad t0``.)
+        Its offsets ``Rp`` in each step's frame follow the set's own recurrence, ``Rp <- (A^-1 M)
+        Rp + A^-1 (c(h) + rem - m)``: ``z(tau; m + A r) in centre + M r`` holds for every ``r``
+        of ``R``, the point's among them, so the balls hold the point's motion, as narrow as a
+        walk from the point alone (the centre ``m`` follows the box's centre, the point's
+        offsets stay at the steps' errors: the doubleton sets of CAPD, Zgliczynski 2002)."""
+        out = None
+        for st, tau in self._pieces(t - self.base, arb(0)):
+            if st.Rp is None:
+                return None
+            centre, M, _ = self._at(st, tau)
+            z = [centre[i] + M[i][0] * st.Rp[0] + M[i][1] * st.Rp[1] for i in range(2)]
+            out = z if out is None else [a.union(b) for a, b in zip(out, z)]
+        return out
+
     def derivative(self, u):
         """The flight factor ``d(x, v)(t0 + u) / d(x0, v0)`` at a fixed start time (Table 1)."""
         out = None
@@ -412,18 +466,21 @@ class ValidatedFlight:
         return out
 
 
-def reframe(centre, M, R):
+def reframe(centre, M, R, Rp=None):
     """``{centre + M r : r in R}`` (balls ``centre``, ball matrix ``M``) as a Lohner set
-    ``(mid, A, R')``: ``mid`` the exact midpoint, ``A`` the QR frame of ``mid M``
+    ``(mid, A, R', Rp')``: ``mid`` the exact midpoint, ``A`` the QR frame of ``mid M``
     (``ValidatedFlight._frame``), ``R' = (A^-1 M) R + A^-1 (centre - mid)``; a step's end
-    (``ValidatedFlight._next``) and a set handed through an event (``handoff``)."""
+    (``ValidatedFlight._next``) and a set handed through an event (``handoff``).  ``Rp``: the
+    offsets of one tracked start (a part of ``R``), carried by the same map (``Rp' = None``
+    without)."""
     mid = [centre[0].mid(), centre[1].mid()]
     A = ValidatedFlight._frame(M, R)
     det = A[0][0] * A[1][1] - A[0][1] * A[1][0]
     Ainv = [[A[1][1] / det, -A[0][1] / det], [-A[1][0] / det, A[0][0] / det]]
-    R2 = [a + b for a, b in zip(_mat_vec(mat_mul(Ainv, M), R),
-                                _mat_vec(Ainv, [centre[i] - mid[i] for i in range(2)]))]
-    return mid, A, R2
+    AM, shift = mat_mul(Ainv, M), _mat_vec(Ainv, [centre[i] - mid[i] for i in range(2)])
+    R2 = [a + b for a, b in zip(_mat_vec(AM, R), shift)]
+    Rp2 = None if Rp is None else [a + b for a, b in zip(_mat_vec(AM, Rp), shift)]
+    return mid, A, R2, Rp2
 
 
 class FlightFactors:

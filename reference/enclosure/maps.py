@@ -65,6 +65,11 @@ class MapEnclosure:
     #: ``d Phi^k / d p`` for the requested ``parameters`` (columns ``(dx/dp, dv/dp)``), enclosed
     #: over the box (``reference.enclosure.sensitivity``); None if not requested or not covered
     dparams: Optional[list] = None
+    #: ``Phi^k`` at the box's centre alone, ``(x, v)`` balls as narrow as a walk from that point
+    #: (position forcing: the walk's validated flights track it through their hand-offs,
+    #: ``lohner.ValidatedFlight.point_state``); None for a point box, without position forcing,
+    #: or where the walk lost it (a start at rest or at a wall, an event without a hand-off, a rest)
+    phi_at_centre: Optional[tuple] = None
 
     def rel_radius(self) -> float:
         """The largest ``rad / |mid|`` of the two components of ``phi`` (``inf`` unproved)."""
@@ -214,7 +219,9 @@ def _prove(scene, X, V, phase, periods, prec, max_events, parameters=(), centred
     points, walls = given or _point_log(scene, X.mid(), V.mid(), phase, periods, prec, max_events)
     t0 = model.T * from_fraction(phase)
     t_end = t0 + from_fraction(periods) * model.T
-    walk = Walk(model, points, t_end, walls, full_derivative)
+    box = model.position_forcing and not (X.is_exact() and V.is_exact())
+    walk = Walk(model, points, t_end, walls, full_derivative,
+                track=(arb(X.mid()), arb(V.mid())) if box else None)
     log = walk.run(t0, X, V)
     J = product_of_table1(FlightFactors(model, walk.flights) if walk.flights else model, log)
     if not all(b.is_finite() for row in J for b in row):
@@ -224,8 +231,9 @@ def _prove(scene, X, V, phase, periods, prec, max_events, parameters=(), centred
     if centred and (isinstance(scene, ParamBox) or not (X.is_exact() and V.is_exact())):
         J, cols = _centred(scene, X, V, phase, periods, prec, max_events, parameters, model, log,
                            (J, cols))
+    at = None if walk.point_end is None else tuple(walk.point_end)
     return MapEnclosure(True, phi=(log.x_end, log.v_end), jacobian=J, events=list(log),
-                        prec=prec, pieces=walk.pieces, dparams=cols)
+                        prec=prec, pieces=walk.pieces, dparams=cols, phi_at_centre=at)
 
 
 def _centred(scene, X, V, phase, periods, prec, max_events, parameters, model, log, plain):

@@ -9,7 +9,9 @@ If ``K(Z)`` lies in the interior of ``Z``, then ``P`` has exactly one fixed poin
 it lies in ``K(Z)`` (Krawczyk 1969; Neumaier, *Interval Methods for Systems of Equations*,
 1990, Thm 5.1.8).  ``P(z~)`` and ``P'(Z)`` are enclosures of ``reference.enclosure.maps`` (the
 latter over the whole box, which also proves that every state of the box has the same
-itinerary, so that ``P`` is smooth there).
+itinerary, so that ``P`` is smooth there).  Under position forcing one walk over ``Z`` gives
+both, ``P(z~)`` from the centre that its validated flights track (``_tracked``), with ``C``
+from ``mid P'(Z)``; where that test fails, Newton goes on from it by walks from points.
 
 The multipliers are the eigenvalues of ``P'`` at the fixed point, enclosed by those of ``P'(K)``
 through ``tr`` and ``det``: ``lambda = (tr +- sqrt(tr^2 - 4 det)) / 2``.  The type follows when
@@ -32,7 +34,7 @@ from reference.enclosure.balls import DEFAULT_PREC, from_number, workprec
 from reference.enclosure.shooting import krawczyk, section
 from reference.enclosure.balls import span as span_ball
 from reference.enclosure.kinds import UNDECIDED, OrbitProof, classify
-from reference.enclosure.maps import check_phase, enclose_map, point_log
+from reference.enclosure.maps import MapEnclosure, check_phase, enclose_map, point_log
 from reference.enclosure.params import ParamBox
 
 #: Newton steps on the midpoints before the proof (each one enclosure of ``P`` at a point).
@@ -103,7 +105,7 @@ def _matvec(M, z):
     return [M[0][0] * z[0] + M[0][1] * z[1], M[1][0] * z[0] + M[1][1] * z[1]]
 
 
-def _newton(scene, z, periods, phase, prec, small=None, points=None):
+def _newton(scene, z, periods, phase, prec, small=None, points=None, first=None):
     """Polish ``z`` on midpoints: ``z <- z - s``, ``s = (P' - I)^-1 (P(z) - z)``, one enclosure
     of ``P`` at a point (a walk guided by ``points``, else by a point log of its own) per step.
     Returns ``(z, enc, ahead)``: the last centre, the enclosure there and the next iterate
@@ -112,11 +114,12 @@ def _newton(scene, z, periods, phase, prec, small=None, points=None):
     noise: ``_krawczyk`` then takes it in mean-value form over the box around ``z`` (issue 33:
     the enclosure at ``z - s`` only confirmed convergence).  Raises ``_Diverged`` where the
     steps, once small, grow by ``DIVERGE_GROWTH``: the far iterate is not walked; ``_TooWide``
-    where ``P'`` is too wide for any Krawczyk box at ``prec`` (:func:`_spread`)."""
+    where ``P'`` is too wide for any Krawczyk box at ``prec`` (:func:`_spread`).  ``first``:
+    an enclosure at ``z`` already made (:func:`_tracked`), in place of the first walk."""
     last = None
-    for _ in range(NEWTON_STEPS):
-        enc = enclose_map(scene, z[0], z[1], periods=periods, phase=phase, prec=prec,
-                          max_prec=prec, points=points)
+    for i in range(NEWTON_STEPS):
+        enc = first if i == 0 and first is not None else enclose_map(
+            scene, z[0], z[1], periods=periods, phase=phase, prec=prec, max_prec=prec, points=points)
         if not enc.proved:
             return z, enc, None
         M = _mid(_mat_sub_identity(enc.jacobian))
@@ -193,16 +196,72 @@ def prove_periodic(scene, x, v, *, periods=1, phase=None, radius=None,
 
 
 def _polished(scene, seed, r, periods, phase, prec, points, tight=True):
-    """Newton from ``seed`` until its step is at most ``r / STEP_SHARE``, then the Krawczyk test
-    (a diverging Newton is a failed proof, with ``diverged``)."""
+    """The Krawczyk test on the box around ``seed`` alone where its walk tracks the centre
+    (:func:`_tracked`), else Newton from ``seed`` (from that walk's enclosure at the centre, if
+    made) until its step is at most ``r / STEP_SHARE``, then the Krawczyk test (a diverging
+    Newton is a failed proof, with ``diverged``)."""
+    box, centre = _tracked(scene, seed, r, periods, phase, prec, points)
+    if centre is not None:
+        proof = _in_box(scene, seed, r, periods, phase, prec, box, centre, points, tight)
+        if proof is not None:
+            return proof
     try:
-        z, enc, ahead = _newton(scene, seed, periods, phase, prec, r / STEP_SHARE, points)
+        z, enc, ahead = _newton(scene, seed, periods, phase, prec, r / STEP_SHARE, points, centre)
     except _Diverged as exc:
         return OrbitProof(False, periods, reason=str(exc), prec=prec, radius=float(r), diverged=True)
     except _TooWide as exc:
         return OrbitProof(False, periods, reason=str(exc), prec=prec, radius=float(r),
                           spread=exc.spread)
     return _krawczyk(scene, z, r, periods, phase, prec, enc, ahead, points, tight)
+
+
+#: the events a box walk tracks its centre through (``reference.enclosure.walk``: flights, the
+#: hand-offs of impacts and turns, stops and slips); another in the guide, and it is not tried
+TRACKED_KINDS = frozenset(("impact", "turn", "stick", "slip"))
+
+
+def _tracked(scene, z, r, periods, phase, prec, points):
+    """``(box, centre)``: the walk over ``Z = z +- r`` and, from the centre it tracks
+    (``MapEnclosure.phi_at_centre``), an enclosure at ``z`` with ``P'(Z)`` for ``P'``
+    (``P'(z)`` lies in it: Newton's ``C`` may be any real matrix); ``(None, None)`` where no
+    such walk applies: without position forcing (the closed-form flights track nothing), without
+    a guide, or with a guide whose events the walk does not track through (``TRACKED_KINDS``);
+    ``(box, None)`` where the walk failed or lost its centre, or where ``P'(Z)`` is too wide for
+    Newton's test (:func:`_spread`, which measures the precision's share at a point: Newton then
+    walks the point).
+
+    Issue 33: a proof took one walk from the point ``z`` (Newton's first, which found it
+    converged) and one over the box; the box's walk alone now gives ``P(z)`` to within a point
+    walk's width (the doubleton sets of ``lohner.ValidatedFlight.point_state``)."""
+    if not points or not scene.has("position_forcing"):
+        return None, None
+    if any(ev.kind not in TRACKED_KINDS for ev in points[0]):
+        return None, None
+    box = enclose_map(scene, z[0], z[1], periods=periods, phase=phase, x_radius=r, v_radius=r,
+                      prec=prec, max_prec=prec, points=points)
+    if not box.proved or box.phi_at_centre is None:
+        return box, None
+    M = _mid(_mat_sub_identity(box.jacobian))
+    if (M[0][0] * M[1][1] - M[0][1] * M[1][0]).is_zero() or not _spread(box.jacobian, _inverse(M)) < 1:
+        return box, None        # P'(Z) too wide for Newton's own test: it walks the point (_TooWide)
+    return box, MapEnclosure(True, phi=box.phi_at_centre, jacobian=box.jacobian,
+                             events=box.events, prec=prec, pieces=box.pieces)
+
+
+def _in_box(scene, z, r, periods, phase, prec, box, centre, points, tight):
+    """The Krawczyk test on ``Z = z +- r`` from its walk ``box`` alone: ``P(z)`` from
+    ``centre`` (:func:`_tracked`), ``C = (mid P'(Z) - I)^-1``, ``K = z - C (P(z) - z) + (I - C
+    (P'(Z) - I)) (Z - z)``.  The proof if ``K`` lies in the interior of ``Z``, else None (then
+    Newton goes on from ``centre``)."""
+    M = _mid(_mat_sub_identity(box.jacobian))
+    if abs(M[0][0] * M[1][1] - M[0][1] * M[1][0]) < arb(2) ** (-prec // 2):
+        return None
+    C = arb_mat(_mid(_inverse(M)))
+    head = C * arb_mat([[centre.phi[0] - z[0]], [centre.phi[1] - z[1]]])
+    K, inside = krawczyk(z, head, C, arb_mat(_mat_sub_identity(box.jacobian)), [r, r])
+    if not inside:
+        return None
+    return _typed(scene, K, periods, phase, prec, r, centre, box, points, tight)
 
 
 def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, points=None, tight=True):
@@ -257,6 +316,13 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, points=Non
         fail.reason = f"K(Z) is not inside Z (radius {float(r):.1e}): |K - z| = {miss}"
         fail.miss = max(miss)
         return fail
+    return _typed(scene, K, periods, phase, prec, r, enc_mid, box, points, tight)
+
+
+def _typed(scene, K, periods, phase, prec, r, enc_mid, box, points, tight):
+    """The proof of the fixed point in ``K``: its multipliers from ``P'`` over ``K`` (one more
+    walk), or over the Krawczyk box's walk ``box`` where ``tight`` is False and that decides
+    the type (or the walk over ``K`` fails)."""
     if not tight:
         loose = _multipliers(scene, K, periods, prec, r, enc_mid, box)
         if loose.kind not in UNDECIDED:

@@ -21,7 +21,11 @@ the walk proves it for every start state of a box, with the semantics of
 6. under position forcing a flight after an impact or a turn starts from the last flight's set
    handed through the event (``reference.enclosure.handoff``) at the exact ``base`` below the
    event's time ball; the next event must then lie beyond that ball (``floor`` in :meth:`fly`),
-   where the last event's own zero lies.
+   where the last event's own zero lies;
+7. one start of a box (its centre: ``enclose_map``'s ``phi_at_centre``) may be tracked through
+   the flights and their hand-offs, and through its own stops (located on its own offsets) and
+   slips (its own rest's zero): its state at ``t_end`` comes from the box's walk, as narrow as a
+   walk from it alone; any other event (contact, chatter, a hand-off that does not apply) loses it.
 
 Any certificate that fails raises :class:`~reference.enclosure.certify.Unproved` with the
 reason: a grazing impact, a tangency, a stick-slip boundary, an event at ``t = kT``.
@@ -93,7 +97,7 @@ def chatter_tail(m, t, side, u):
 class Walk:
     """One walk: the point log ``points`` re-proved from balls ``(t0, x0, v0)`` to ``t_end``."""
 
-    def __init__(self, model, points, t_end, point_walls, full_derivative=False):
+    def __init__(self, model, points, t_end, point_walls, full_derivative=False, track=None):
         self.m, self.points, self.t_end = model, list(points), t_end
         self.full_derivative = full_derivative   # flights' Phi' to the working precision (lohner)
         self.point_t0 = points.t0
@@ -106,6 +110,14 @@ class Walk:
         self.flights = {}             # validated flights by id of their start time (Table 1)
         self.ahead = None             # (side, index) of the chatter event ending the current run
         self.handoff = None           # the last event's set for the next flight (handoff)
+        #: one start ``(x, v)`` of the box (exact balls) whose own state at ``t_end`` the
+        #: validated flights track (``lohner.ValidatedFlight.point_state``) through the hand-offs
+        #: of their events and through its own stops and slips (``_track_rest``): ``track`` is
+        #: ``(t, x, v)`` for the flight that starts from the set ``track_for`` (the objects
+        #: ``(t, x, v)`` of the walk), ``rest_track`` ``(t, x)`` of its stop; ``point_end`` its
+        #: state at ``t_end``, or None where a start, an event or a rest lost it
+        self.start_track, self.track, self.track_for, self.rest_track = track, None, (), None
+        self.point_end = None
 
     # -- point events -------------------------------------------------------------------
     def peek(self):
@@ -133,6 +145,8 @@ class Walk:
         m = self.m
         self.t, self.x, self.v = t0, x0, v0
         self.log.t0, self.log.x0, self.log.v0 = t0, x0, v0
+        if self.start_track is not None:
+            self.track, self.track_for = (t0,) + tuple(self.start_track), (t0, x0, v0)
         if not (x0 >= m.l and x0 <= m.r):
             raise Unproved("the start box is not inside the closed gap [l, r]")
         at = [side for side in (1, -1) if x0.is_exact() and x0 == m.wall(side)]
@@ -205,8 +219,12 @@ class Walk:
         if not m.position_forcing:
             return motion.Flight(m, self.t, self.x, self.v, self.s)
         carried = self.handoff if self.handoff is not None and self.handoff.T is self.t else None
+        here = len(self.track_for) == 3 and all(a is b for a, b in zip((self.t, self.x, self.v),
+                                                                        self.track_for))
+        point, self.track = (self.track if here else None), None
         flight = lohner.ValidatedFlight(m, self.t, self.x, self.v, self.s,
-                                        full_derivative=self.full_derivative, carried=carried)
+                                        full_derivative=self.full_derivative, carried=carried,
+                                        point=point)
         self.flights[id(self.t)] = flight
         return flight
 
@@ -223,6 +241,8 @@ class Walk:
                 self.pieces += certify.exclude(flight, fn, arb(0), h_end.upper(), what)
             stack = flight.stack(h_end)
             self.t, self.x, self.v = self.t_end, stack[0], stack[1]
+            if m.position_forcing:
+                self.point_end = flight.point_state(self.t_end)
             return True
         side = self._wall_side(ev.x)
         ahead = [fn for fn in fns if side and fn.name == motion.wall_name(side)]
@@ -299,6 +319,8 @@ class Walk:
             self._refuse_mixed_stick(f"a stop at t = {self.t.mid().str(15)}")
             self.emit("stick", arb(0))
             self.mode = "stick"
+            if m.position_forcing and self.handoff is not None:
+                self.rest_track = self.handoff.tracked_stop()
             return False
         raise Unproved(f"a zero of the velocity at t = {self.t.mid().str(15)} where the force "
                        f"may be at the friction level (a stick-slip boundary)")
@@ -358,10 +380,12 @@ class Walk:
         lo = self.t.lower()
         what = f"{self.mode} from t = {self.t.mid().str(15)}"
         ev = self.peek()
+        tracked, self.rest_track = self.rest_track, None
         if ev is None:
             for fn in fns:
                 self.pieces += certify.exclude(rest, fn, lo, self.t_end.upper(), what)
             self.t, self.v = self.t_end, arb(0)
+            self.point_end = None if tracked is None else (tracked[1], arb(0))
             return True
         self.take(kind)
         if not fns:
@@ -385,11 +409,24 @@ class Walk:
             self.pieces += certify.exclude(rest, fn, lo, hi, what)
         self.t, self.v = tight, arb(0)
         self.emit(kind, arb(0))
+        if tracked is not None:
+            self._track_rest(tracked, fired, guess)
         if m.friction:
             self.to_flight(sigma, {"velocity": 2})
         else:
             self.to_flight(0, {motion.wall_name(self.side): 3})
         return False
+
+    def _track_rest(self, tracked, fired, guess):
+        """The tracked start's own slip (``rest_track``: its stop ``(t, x)``): the zero of
+        ``fired`` on its rest at ``x``, near ``guess`` (``certify.root``); the next flight then
+        tracks it from there.  Lost (no ``track``) where that zero is not proved."""
+        t, x = tracked
+        try:
+            _, slip = certify.root(motion.Rest(self.m, x), fired, guess, t.upper(), "the tracked slip")
+        except Unproved:
+            return
+        self.track, self.track_for = (slip, x, arb(0)), (self.t, self.x, self.v)
 
     def restore_fallback(self):
         """A bounce of a chatter run could not be proved (late bounces are too short for
