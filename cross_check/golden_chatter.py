@@ -4,7 +4,7 @@ reference runs restarted from its proof (issue 33).
 A chatter input's proof (``golden.first_proof``: 192 bits) pins ``Phi``, ``Phi'`` and every
 event to ~1e-54 but the accumulation time ``t_inf`` of each chatter run only to ~1e-11: the
 walk bounds the tail of the run to second order in the last bounce's speed
-(``reference.enclosure.walk.chatter_tail``) and closes it at ``2^-40 T``.  The rest after it
+(``reference.enclosure.tails.chatter_tail``) and closes it at ``2^-40 T``.  The rest after it
 forgets ``t_inf`` (the particle waits at the wall for the force), so ``t_inf`` is the one value
 the proof leaves to the reference.  Before, such an input took the dps 90 / 110 pair over the
 whole period: two full runs, ~2.3 CPU s an input on the narrow corner ``F=3 f=0.3 omega=0.5

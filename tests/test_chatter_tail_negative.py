@@ -1,6 +1,6 @@
 """The chatter tail bound holds, and is refused where it does not (issue 24).
 
-``reference.enclosure.walk.chatter_tail(m, t, side, u)`` bounds the accumulation time of the
+``reference.enclosure.tails.chatter_tail(m, t, side, u)`` bounds the accumulation time of the
 infinitely many bounces that follow an impact at wall ``side`` at time ``t`` with outgoing speed
 ``u``, without simulating them: on a window where the push exceeds friction, each bounce shrinks
 by at most ``rho = e sqrt(R_max / D) < 1``, and the geometric sum is bounded on both sides.
@@ -23,7 +23,7 @@ import reference
 from cross_check.tolerances import tol
 from reference.enclosure.balls import BallModel, from_mpf, from_number, workprec
 from reference.enclosure.certify import Unproved
-from reference.enclosure.walk import chatter_tail
+from reference.enclosure.tails import chatter_tail
 from reference.scene import Scene
 
 PREC = 320

@@ -15,7 +15,8 @@ from cross_check.tolerances import tol
 from reference.enclosure import motion
 from reference.enclosure.balls import BallModel, from_mpf, from_number, workprec
 from reference.enclosure.certify import Unproved
-from reference.enclosure.lohner import ValidatedFlight, contracts, picard_box
+from reference.enclosure.lohner import ValidatedFlight
+from reference.enclosure.picard import contracts, picard_box
 from reference.enclosure.series import Field
 from reference.scene import Scene
 from reference.taylor import TaylorFlight

@@ -26,7 +26,7 @@ Each case is found forward:
    at ``CHECK_DPS`` digits must have the event too, with the screen's itinerary before it;
 3. **certify**: ``reference.enclosure.enclose_map`` proves the start's itinerary over ``[0, T]``
    forward (``impact_at_t.forward_proof``; a chatter run's tail bounded,
-   ``reference.enclosure.walk.chatter_tail``).
+   ``reference.enclosure.tails.chatter_tail``).
 
 fast only orders the candidates; the reference and the proof decide.
 """

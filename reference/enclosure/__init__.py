@@ -39,8 +39,9 @@ is its scene: the point API is unchanged.
 
 Modules: ``balls`` (precision, conversions, the scene as balls), ``motion`` (flights and
 rests on balls, event functions), ``series`` (the position-forced flight's Taylor
-coefficients on balls), ``lohner`` (validated flights), ``certify`` (exclusion and Krawczyk
-roots), ``walk`` (the itinerary, event by event, chatter tails), ``maps`` (``enclose_map``),
+coefficients on balls), ``picard`` (a priori boxes), ``lohner`` (validated flights, one start
+tracked), ``handoff`` (a flight's set through an event), ``certify`` (exclusion and Krawczyk
+roots), ``walk`` (the itinerary, event by event), ``tails`` (chatter tails), ``maps`` (``enclose_map``),
 ``orbits`` (``prove_periodic``); over parameter boxes ``params``, ``sensitivity``, ``centred``,
 ``shooting``, ``boxes``, ``dual``, ``impacts``, ``continuation``, ``branches``; the
 invariance of ``Omega_dissip`` (``Phi(Omega_dissip)`` in ``Omega_dissip``): ``rest`` (the

@@ -51,7 +51,9 @@ from __future__ import annotations
 
 from flint import arb
 
-from reference.enclosure.lohner import _interval, picard_box, reframe
+from reference.enclosure.lohner import reframe
+from reference.enclosure.picard import interval as _interval
+from reference.enclosure.picard import picard_box
 from reference.jacobian import mat_mul
 
 #: The order of the Taylor series that runs the centre's state back from its event to

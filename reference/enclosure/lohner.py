@@ -88,15 +88,17 @@ from flint import arb, arb_poly, ctx
 
 from reference.enclosure.balls import workprec
 from reference.enclosure.certify import Unproved
+from reference.enclosure.picard import interval as _interval
+from reference.enclosure.picard import near_identity as _near_identity
+from reference.enclosure.picard import picard_box
 from reference.enclosure.series import Field
 from reference.jacobian import mat_mul
 
 #: Bound on the steps of one flight (a step budget; exceeding it leaves the flight unproved):
 #: a period of eq. xpot takes ~15 steps, ~20 ms each at 320 bits, so 2000 is ~100 periods.
 MAX_STEPS = 2000
-#: Bound on the halvings of one step, and on the Picard iterations of one a priori box.
+#: Bound on the halvings of one step (``picard.PICARD_TRIES`` bounds an a priori box's tries).
 HALVINGS = 30
-PICARD_TRIES = 12
 #: Significant bits of a step size (a short dyadic number keeps the step times exact).
 STEP_BITS = 12
 #: The longest step, in units of the flight's natural time scale (``_step_cap``).
@@ -124,39 +126,6 @@ def taylor_order(prec: int) -> int:
 
 def _mat_vec(M, z):
     return [M[0][0] * z[0] + M[0][1] * z[1], M[1][0] * z[0] + M[1][1] * z[1]]
-
-
-def _near_identity(e):
-    """``I + [-e, e]`` entrywise (``e`` an exact nonnegative ball)."""
-    return [[1 + arb(0, e), arb(0, e)], [arb(0, e), 1 + arb(0, e)]]
-
-
-def _interval(h):
-    """The ball ``[0, h]`` (``h >= 0`` exact)."""
-    return arb(h / 2, h / 2) if not h.is_zero() else arb(0)
-
-
-def contracts(field, t_span, Y, hball, B):
-    """The Picard test: ``N = Y + hball f(t_span, B)`` if it lies in the interior of ``B``
-    (then every solution from ``Y`` at a time of ``t_span`` exists over the times ``hball``
-    and stays in ``N``), else ``None``."""
-    N = [Y[0] + hball * B[1], Y[1] + hball * field.accel(t_span, B[0], B[1])]
-    return N if B[0].contains_interior(N[0]) and B[1].contains_interior(N[1]) else None
-
-
-def picard_box(field, t_span, Y, hball):
-    """An a priori enclosure over the times ``hball`` (``[0, h]`` or ``[-h, 0]``): iterate
-    ``B <- Y + hball f(B)``, widened, until :func:`contracts` verifies it; ``None`` if no box
-    verifies within ``PICARD_TRIES`` widenings."""
-    x, v = Y
-    N = [x + hball * v, v + hball * field.accel(t_span, x, v)]
-    for _ in range(PICARD_TRIES):
-        B = [n + arb(0, n.rad() + (abs(n.mid()) + 1) * arb(2) ** (-ctx.prec + 8)) for n in N]
-        verified = contracts(field, t_span, Y, hball, B)
-        if verified is not None:
-            return verified
-        N = [x + hball * B[1], v + hball * field.accel(t_span, B[0], B[1])]
-    return None
 
 
 class _Step:
