@@ -361,23 +361,26 @@ class Walk:
         self.t, self.v = tight, arb(0)
         self.emit(kind, arb(0))
         if tracked is not None:
-            self._track_rest(tracked, fired, guess)
+            self._track_rest(tracked, fired, guess, wide)
         if m.friction:
             self.to_flight(sigma, {"velocity": 2})
         else:
             self.to_flight(0, {motion.wall_name(self.side): 3})
         return False
 
-    def _track_rest(self, tracked, fired, guess):
+    def _track_rest(self, tracked, fired, guess, wide):
         """The tracked start's own slip (``rest_track``: its stop ``(t, x)``): the zero of
-        ``fired`` on its rest at ``x``, near ``guess`` (``certify.root``); the next flight then
-        tracks it from there.  Lost (no ``track``) where that zero is not proved."""
+        ``fired`` on its rest at ``x``, near ``guess`` (``certify.root``), inside the set's ball
+        ``wide`` (where every start of the set has one zero, and none before it: the same zero);
+        the next flight then tracks it from there.  Lost (no ``track``) where that zero is not
+        proved or not inside ``wide``."""
         t, x = tracked
         try:
             _, slip = certify.root(motion.Rest(self.m, x), fired, guess, t.upper(), "the tracked slip")
         except Unproved:
             return
-        self.track, self.track_for = (slip, x, arb(0)), (self.t, self.x, self.v)
+        if wide.contains(slip):
+            self.track, self.track_for = (slip, x, arb(0)), (self.t, self.x, self.v)
 
     def restore_fallback(self):
         """A bounce of a chatter run could not be proved (late bounces are too short for
