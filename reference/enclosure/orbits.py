@@ -92,6 +92,12 @@ def _mat_sub_identity(J):
     return [[J[0][0] - 1, J[0][1]], [J[1][0], J[1][1] - 1]]
 
 
+def _newton_matrix(J):
+    """``(M, det M)`` with ``M = mid(P' - I)``, ``P' = J``: Newton's and Krawczyk's ``C = M^-1``."""
+    M = _mid(_mat_sub_identity(J))
+    return M, M[0][0] * M[1][1] - M[0][1] * M[1][0]
+
+
 def _inverse(M):
     det = M[0][0] * M[1][1] - M[0][1] * M[1][0]
     return [[M[1][1] / det, -M[0][1] / det], [-M[1][0] / det, M[0][0] / det]]
@@ -122,8 +128,8 @@ def _newton(scene, z, periods, phase, prec, small=None, points=None, first=None)
             scene, z[0], z[1], periods=periods, phase=phase, prec=prec, max_prec=prec, points=points)
         if not enc.proved:
             return z, enc, None
-        M = _mid(_mat_sub_identity(enc.jacobian))
-        if (M[0][0] * M[1][1] - M[0][1] * M[1][0]).is_zero():
+        M, det = _newton_matrix(enc.jacobian)
+        if det.is_zero():
             return z, enc, None
         C = _inverse(M)
         spread = _spread(enc.jacobian, C)
@@ -241,8 +247,8 @@ def _tracked(scene, z, r, periods, phase, prec, points):
                       prec=prec, max_prec=prec, points=points)
     if not box.proved or box.phi_at_centre is None:
         return box, None
-    M = _mid(_mat_sub_identity(box.jacobian))
-    if (M[0][0] * M[1][1] - M[0][1] * M[1][0]).is_zero() or not _spread(box.jacobian, _inverse(M)) < 1:
+    M, det = _newton_matrix(box.jacobian)
+    if det.is_zero() or not _spread(box.jacobian, _inverse(M)) < 1:
         return box, None        # P'(Z) too wide for Newton's own test: it walks the point (_TooWide)
     return box, MapEnclosure(True, phi=box.phi_at_centre, jacobian=box.jacobian,
                              events=box.events, prec=prec, pieces=box.pieces)
@@ -253,8 +259,8 @@ def _in_box(scene, z, r, periods, phase, prec, box, centre, points, tight):
     ``centre`` (:func:`_tracked`), ``C = (mid P'(Z) - I)^-1``, ``K = z - C (P(z) - z) + (I - C
     (P'(Z) - I)) (Z - z)``.  The proof if ``K`` lies in the interior of ``Z``, else None (then
     Newton goes on from ``centre``)."""
-    M = _mid(_mat_sub_identity(box.jacobian))
-    if abs(M[0][0] * M[1][1] - M[0][1] * M[1][0]) < arb(2) ** (-prec // 2):
+    M, det = _newton_matrix(box.jacobian)
+    if abs(det) < arb(2) ** (-prec // 2):
         return None
     C = arb_mat(_mid(_inverse(M)))
     head = C * arb_mat([[centre.phi[0] - z[0]], [centre.phi[1] - z[1]]])
@@ -285,8 +291,7 @@ def _krawczyk(scene, z, r, periods, phase, prec, enc_mid, ahead=None, points=Non
     if not enc_mid.proved:
         fail.reason = f"Phi^{periods} {UNCENTRED}: {enc_mid.reason}"
         return fail
-    M = _mid(_mat_sub_identity(enc_mid.jacobian))
-    det_m = M[0][0] * M[1][1] - M[0][1] * M[1][0]
+    M, det_m = _newton_matrix(enc_mid.jacobian)
     if abs(det_m) < arb(2) ** (-prec // 2):
         fail.reason = ("det(P' - I) vanishes at the centre: the fixed point is not isolated "
                        "(a family of fixed points), which no Krawczyk box can single out")
